@@ -1,0 +1,2 @@
+//! Wiring between agents and environments: in-process runs of episodes.
+#![warn(missing_docs)]

@@ -1,0 +1,3 @@
+//! PointNav episodes: Habitat's dataset files and the episode generator.
+
+pub mod dataset;

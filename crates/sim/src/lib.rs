@@ -1,0 +1,13 @@
+//! The xhab simulator: Habitat's PointNav task without Habitat.
+//!
+//! Read in this order: [`scene`] (triangle soup in the world frame, from glTF/OBJ/PLY or the
+//! procedural house), [`navgrid`] (the traversable region of a disc agent on one floor),
+//! [`geodesic`] (shortest paths in that region), [`episode`] (PointNav episodes: files and
+//! generator), [`env`] (the discrete simulator) and [`metrics`].
+//!
+//! Frames: the world frame is REP-103 (z up). Habitat files use y up; they are converted once,
+//! at the file boundary (`(x, y, z)_habitat = (x, -z, y)_ours`).
+#![warn(missing_docs)]
+
+pub mod scene;
+pub mod episode;

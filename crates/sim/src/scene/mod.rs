@@ -1,0 +1,56 @@
+//! Scenes: static triangle geometry in the world frame (REP-103, z up, metres).
+//!
+//! Loaders convert from each format's frame once, here at the boundary: glTF/GLB (y up,
+//! node transforms applied), OBJ and PLY (up axis is a load option), and the seeded
+//! procedural house that is the built-in default scene.
+
+mod error;
+mod mesh;
+
+pub use error::SceneError;
+pub use mesh::{Aabb, Mesh, Scene};
+
+use serde::{Deserialize, Serialize};
+
+/// Which axis of a file points up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpAxis {
+    /// y up (glTF, Habitat, most OBJ exports); `(x, y, z)` becomes `(x, -z, y)`.
+    #[default]
+    Y,
+    /// z up (ROS, Gazebo, Matterport PLY); coordinates are kept.
+    Z,
+}
+
+impl UpAxis {
+    /// Converts a file point to the world frame.
+    pub fn to_world(self, p: [f32; 3]) -> [f32; 3] {
+        match self {
+            UpAxis::Y => [p[0], -p[2], p[1]],
+            UpAxis::Z => p,
+        }
+    }
+}
+
+/// Options for loading a scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LoadOptions {
+    /// Up axis of OBJ and PLY files (glTF is always y up). Default y.
+    pub up_axis: UpAxis,
+    /// Drop meshes whose node or mesh name contains "ceiling" (case-insensitive). Default true.
+    pub drop_ceilings: bool,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { up_axis: UpAxis::Y, drop_ceilings: true }
+    }
+}
+
+mod glb_writer;
+mod gltf;
+mod load;
+mod obj;
+mod ply;
+pub mod procedural;

@@ -1,0 +1,13 @@
+//! Plain data shared by `xhab-sim` and `xhab-nav`: points, poses, velocities and grids.
+//!
+//! Everything here is IO-free and follows ROS REP-103: metres, seconds, radians,
+//! x forward, y left, z up, yaw counter-clockwise from +x.
+#![warn(missing_docs)]
+
+mod geometry;
+mod grid;
+mod twist;
+
+pub use geometry::{normalize_angle, Point2, Point3, Pose2};
+pub use grid::{OccupancyGrid, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
+pub use twist::Twist;

@@ -1,0 +1,2 @@
+//! The `xhab` command line.
+fn main() {}
