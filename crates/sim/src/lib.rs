@@ -11,3 +11,5 @@
 
 pub mod scene;
 pub mod episode;
+pub mod navgrid;
+pub mod geodesic;

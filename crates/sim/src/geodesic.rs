@@ -1,0 +1,263 @@
+//! Geodesic distance: shortest paths for the disc agent in continuous space.
+//!
+//! A [`GeodesicField`] holds, for every navigable cell of a [`NavGrid`], the length of the
+//! shortest any-angle path from the cell centre to the nearest goal, and the *anchor* that
+//! path passes last: a goal, or a bend point on the region's boundary. It is built by a
+//! Dijkstra wavefront whose nodes inherit their parent's anchor while they can see it (as in
+//! Theta*), and bend only at convex corners of the region, whose bend points lie exactly at
+//! `radius` from the obstacle. A query at any point `p` is then `D(anchor) + |anchor - p|`:
+//! O(1), with no grid-step error.
+
+use crate::navgrid::NavGrid;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use xhab_types::Point2;
+
+/// Shortest-path distances from every navigable cell to a set of goals.
+#[derive(Debug, Clone)]
+pub struct GeodesicField {
+    goals: Vec<Point2>,
+    goal_islands: Vec<u32>,
+    /// Distance at each cell centre (m); infinite where unreached.
+    dist: Vec<f64>,
+    /// Distance at each cell's anchor point (m).
+    anchor_dist: Vec<f64>,
+    /// Anchor per cell: a cell index (its anchor point), `n + k` for goal k, `u32::MAX` unreached.
+    parent: Vec<u32>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl GeodesicField {
+    /// Computes the field towards `goals` (m, planar) on `grid`. Goals off the region are
+    /// attached to the nearest navigable cell within two cells; farther ones are ignored.
+    pub fn new(grid: &NavGrid, goals: &[Point2]) -> GeodesicField {
+        let (w, h) = grid.size();
+        let n = w * h;
+        let mut f = GeodesicField {
+            goals: goals.to_vec(),
+            goal_islands: Vec::new(),
+            dist: vec![f64::INFINITY; n],
+            anchor_dist: vec![f64::INFINITY; n],
+            parent: vec![NONE; n],
+        };
+        let mut heap = BinaryHeap::new();
+        for (k, &g) in goals.iter().enumerate() {
+            let Some(i) = grid.cell_of(g).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(g, 2)) else {
+                continue;
+            };
+            f.goal_islands.push(grid.island_of[i]);
+            let c = grid.center(i);
+            let d = (c[0] - g.x).hypot(c[1] - g.y);
+            if d < f.dist[i] {
+                f.dist[i] = d;
+                f.parent[i] = (n + k) as u32;
+                heap.push(Reverse((d.to_bits(), i as u32)));
+            }
+        }
+        let mut done = vec![false; n];
+        while let Some(Reverse((_, m))) = heap.pop() {
+            let m = m as usize;
+            if done[m] {
+                continue;
+            }
+            done[m] = true;
+            let q = f.parent[m];
+            // The distance at m's own anchor point, for paths that bend at m.
+            f.anchor_dist[m] = if grid.corner[m] {
+                let (qp, qd) = f.anchor_of(grid, q);
+                qd + dist2(qp, grid.anchor[m])
+            } else {
+                f.dist[m]
+            };
+            let (qp, qd) = f.anchor_of(grid, q);
+            let (c, rr) = ((m % w) as isize, (m / w) as isize);
+            for (dc, dr) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)] {
+                let (kc, kr) = (c + dc, rr + dr);
+                if kc < 0 || kr < 0 || kc >= w as isize || kr >= h as isize {
+                    continue;
+                }
+                let k = (kr * w as isize + kc) as usize;
+                if done[k] || !grid.is_nav_cell(k) {
+                    continue;
+                }
+                if dc != 0 && dr != 0 {
+                    // No squeezing diagonally between two blocked cells.
+                    let a = (rr * w as isize + kc) as usize;
+                    let b = (kr * w as isize + c) as usize;
+                    if !grid.is_nav_cell(a) || !grid.is_nav_cell(b) {
+                        continue;
+                    }
+                }
+                let ck = grid.center(k);
+                let (cand, par) = if segment_clear(grid, qp, ck) {
+                    (qd + dist2(qp, ck), q)
+                } else {
+                    (f.anchor_dist[m] + dist2(grid.anchor[m], ck), m as u32)
+                };
+                if cand < f.dist[k] {
+                    f.dist[k] = cand;
+                    f.parent[k] = par;
+                    heap.push(Reverse((cand.to_bits(), k as u32)));
+                }
+            }
+        }
+        f
+    }
+
+    /// The goals (m).
+    pub fn goals(&self) -> &[Point2] {
+        &self.goals
+    }
+
+    /// Anchor point and distance of parent id `q`.
+    fn anchor_of(&self, grid: &NavGrid, q: u32) -> ([f64; 2], f64) {
+        let n = self.dist.len();
+        if q as usize >= n {
+            let g = self.goals[q as usize - n];
+            ([g.x, g.y], 0.0)
+        } else {
+            (grid.anchor[q as usize], self.anchor_dist[q as usize])
+        }
+    }
+
+    /// The reached cell that stands for `p`: its own, or the nearest reached one within two cells.
+    fn cell_for(&self, grid: &NavGrid, p: Point2) -> Option<usize> {
+        let i = grid.cell_of(p)?;
+        if self.parent[i] != NONE {
+            return Some(i);
+        }
+        let j = grid.nearest_nav_cell(p, 2)?;
+        (self.parent[j] != NONE).then_some(j)
+    }
+
+    /// Geodesic distance from `p` (m, planar) to the nearest goal (m); infinite when `p` is
+    /// off the region or on an island without a goal.
+    pub fn distance(&self, grid: &NavGrid, p: Point2) -> f64 {
+        match self.cell_for(grid, p) {
+            Some(i) => {
+                let (a, d) = self.anchor_of(grid, self.parent[i]);
+                d + dist2(a, [p.x, p.y])
+            }
+            None => f64::INFINITY,
+        }
+    }
+
+    /// The next point to head for on the shortest path from `p` (the first bend, or the goal),
+    /// skipping bend points closer than `min_dist` (m). `None` when unreachable.
+    pub fn next_waypoint(&self, grid: &NavGrid, p: Point2, min_dist: f64) -> Option<Point2> {
+        let i = self.cell_for(grid, p)?;
+        let n = self.dist.len();
+        let mut q = self.parent[i];
+        loop {
+            let (a, _) = self.anchor_of(grid, q);
+            if q as usize >= n || dist2(a, [p.x, p.y]) >= min_dist {
+                return Some(Point2::new(a[0], a[1]));
+            }
+            let next = self.parent[q as usize];
+            if next == q || next == NONE {
+                return Some(Point2::new(a[0], a[1]));
+            }
+            q = next;
+        }
+    }
+
+    /// The shortest path from `p` to its goal as a polyline (m), `p` first.
+    pub fn path(&self, grid: &NavGrid, p: Point2) -> Vec<Point2> {
+        let mut out = vec![p];
+        let Some(i) = self.cell_for(grid, p) else { return out };
+        let n = self.dist.len();
+        let mut q = self.parent[i];
+        for _ in 0..n {
+            let (a, _) = self.anchor_of(grid, q);
+            out.push(Point2::new(a[0], a[1]));
+            if q as usize >= n {
+                break;
+            }
+            let next = self.parent[q as usize];
+            if next == q || next == NONE {
+                break;
+            }
+            q = next;
+        }
+        out
+    }
+}
+
+/// Geodesic distance between two points of one floor (m); infinite across islands.
+pub fn geodesic_distance(grid: &NavGrid, from: Point2, to: Point2) -> f64 {
+    GeodesicField::new(grid, &[to]).distance(grid, from)
+}
+
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Tolerance of the line-of-sight test (m): how far inside the clearance radius a segment
+/// may pass. Bend points lie exactly on the radius, one cell apart along an arc, and the chord
+/// between two of them dips about 3 mm inside it; a path that cuts a corner by this much is
+/// shorter than the exact one by under 1 cm.
+const LOS_EPS: f64 = 0.003;
+
+/// Whether the agent can slide along the straight segment from `a` to `b` (m): every cell the
+/// segment crosses is either clear by a whole cell's half-diagonal, or its nearest obstacle
+/// point is at least `radius` from the segment (exact at convex corners and along walls).
+pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2]) -> bool {
+    let (w, h) = grid.size();
+    let res = grid.resolution();
+    let o = grid.origin();
+    let r = grid.params.radius;
+    let sure = r + 0.7072 * res;
+    let check = |i: usize| -> bool {
+        let cl = grid.clearance[i] as f64;
+        if cl >= sure {
+            return true;
+        }
+        if cl <= 0.0 {
+            return false;
+        }
+        let q = grid.nearest[i];
+        if q[0].is_finite() {
+            let s = [a, b];
+            let c = crate::navgrid::closest_on_segment([q[0] as f64, q[1] as f64], &s);
+            (c[0] - q[0] as f64).hypot(c[1] - q[1] as f64) >= r - LOS_EPS
+        } else {
+            cl >= r - 0.25 * res
+        }
+    };
+    // Amanatides-Woo traversal of the cells the segment crosses.
+    let fx0 = (a[0] - o.x) / res;
+    let fy0 = (a[1] - o.y) / res;
+    let fx1 = (b[0] - o.x) / res;
+    let fy1 = (b[1] - o.y) / res;
+    let inside = |x: f64, y: f64| x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64;
+    if !inside(fx0, fy0) || !inside(fx1, fy1) {
+        return false;
+    }
+    let (mut x, mut y) = (fx0.floor() as i64, fy0.floor() as i64);
+    let (x1, y1) = (fx1.floor() as i64, fy1.floor() as i64);
+    let (dx, dy) = (fx1 - fx0, fy1 - fy0);
+    let sx = if dx > 0.0 { 1 } else { -1 };
+    let sy = if dy > 0.0 { 1 } else { -1 };
+    let t_dx = if dx != 0.0 { (1.0 / dx).abs() } else { f64::INFINITY };
+    let t_dy = if dy != 0.0 { (1.0 / dy).abs() } else { f64::INFINITY };
+    let mut t_mx = if dx > 0.0 { ((x + 1) as f64 - fx0) * t_dx } else if dx < 0.0 { (fx0 - x as f64) * t_dx } else { f64::INFINITY };
+    let mut t_my = if dy > 0.0 { ((y + 1) as f64 - fy0) * t_dy } else if dy < 0.0 { (fy0 - y as f64) * t_dy } else { f64::INFINITY };
+    let steps = (x1 - x).abs() + (y1 - y).abs();
+    if !check((y as usize) * w + x as usize) {
+        return false;
+    }
+    for _ in 0..steps {
+        if t_mx < t_my {
+            x += sx;
+            t_mx += t_dx;
+        } else {
+            y += sy;
+            t_my += t_dy;
+        }
+        if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 || !check((y as usize) * w + x as usize) {
+            return false;
+        }
+    }
+    true
+}

@@ -1,0 +1,82 @@
+//! Floors: the heights at which a scene has large walkable surfaces.
+
+use super::raster;
+use super::AgentParams;
+use crate::scene::Scene;
+use serde::{Deserialize, Serialize};
+
+/// A floor of a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Floor {
+    /// Height of the walking surface (m, world z).
+    pub z: f64,
+    /// Walkable area near that height (m^2, projected).
+    pub area: f64,
+}
+
+/// Height bin for the walkable-area histogram (m).
+const BIN: f64 = 0.05;
+
+/// Floors of `scene`, lowest first: clusters of walkable (slope <= max_slope) area whose
+/// total is at least 25% of the largest cluster's and at least 1 m^2. Table tops and beds
+/// form small clusters and are left out; a floor's height is the highest well-populated bin
+/// of its cluster (the top of a floor slab, not its bottom face).
+pub fn detect_floors(scene: &Scene, params: &AgentParams) -> Vec<Floor> {
+    let cos_slope = params.max_slope_deg.to_radians().cos();
+    let mut hist: std::collections::BTreeMap<i64, f64> = Default::default();
+    for t in scene.triangles() {
+        let t = t.map(|p| p.map(|v| v as f64));
+        let Some(nz) = raster::abs_normal_z(&t) else { continue };
+        if nz < cos_slope {
+            continue;
+        }
+        let (_, proj) = raster::areas(&t);
+        let zc = (t[0][2] + t[1][2] + t[2][2]) / 3.0;
+        *hist.entry((zc / BIN).round() as i64).or_default() += proj;
+    }
+    // Clusters: runs of bins no more than max_climb apart.
+    let gap = (params.max_climb / BIN).ceil().max(1.0) as i64;
+    let mut clusters: Vec<Vec<(i64, f64)>> = Vec::new();
+    for (&b, &a) in &hist {
+        match clusters.last_mut() {
+            Some(c) if b - c.last().map(|x| x.0).unwrap_or(b) <= gap => c.push((b, a)),
+            _ => clusters.push(vec![(b, a)]),
+        }
+    }
+    let totals: Vec<f64> = clusters.iter().map(|c| c.iter().map(|x| x.1).sum()).collect();
+    let largest = totals.iter().cloned().fold(0.0, f64::max);
+    let mut floors = Vec::new();
+    for (c, &total) in clusters.iter().zip(&totals) {
+        if total < 1.0 || total < 0.25 * largest {
+            continue;
+        }
+        let peak = c.iter().map(|x| x.1).fold(0.0, f64::max);
+        let top = c.iter().rev().find(|x| x.1 >= 0.5 * peak).map(|x| x.0).unwrap_or(c[0].0);
+        // The exact height: the area-weighted mean of triangle heights in that bin.
+        floors.push(Floor { z: exact_height(scene, top, cos_slope), area: total });
+    }
+    floors
+}
+
+fn exact_height(scene: &Scene, bin: i64, cos_slope: f64) -> f64 {
+    let (mut sa, mut sz) = (0.0, 0.0);
+    for t in scene.triangles() {
+        let t = t.map(|p| p.map(|v| v as f64));
+        let zc = (t[0][2] + t[1][2] + t[2][2]) / 3.0;
+        if (zc / BIN).round() as i64 != bin {
+            continue;
+        }
+        match raster::abs_normal_z(&t) {
+            Some(nz) if nz >= cos_slope => {}
+            _ => continue,
+        }
+        let (_, a) = raster::areas(&t);
+        sa += a;
+        sz += a * zc;
+    }
+    if sa > 0.0 {
+        sz / sa
+    } else {
+        bin as f64 * BIN
+    }
+}

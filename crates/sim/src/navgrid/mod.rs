@@ -1,0 +1,448 @@
+//! The traversable region of a disc agent on one floor of a scene, on a fine grid.
+//!
+//! A cell is *navigable* when the floor under it is walkable (slope <= `max_slope`, height within
+//! `max_climb` of the floor) and its centre is at least `radius` from every obstacle, where an
+//! obstacle is scene geometry between `floor + max_climb` and `floor + height`, or the edge of
+//! the floor. Distances to geometry are exact (see [`clearance`]), so the region's boundary is
+//! not quantised to the grid. Navigable cells form islands (4-connected components).
+
+mod clearance;
+mod floors;
+pub(crate) mod raster;
+
+pub use floors::{detect_floors, Floor};
+pub(crate) use clearance::closest_on_segment;
+
+use crate::scene::Scene;
+use raster::GridSpec;
+use serde::{Deserialize, Serialize};
+use xhab_types::{OccupancyGrid, Point2, Pose2, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
+
+/// How far below the clearance radius a point may be and still count as navigable (m).
+/// Absorbs the interpolation error of the clearance field at convex corners.
+pub const NAV_TOLERANCE: f64 = 0.01;
+
+/// The navigation agent's body and the grid it is planned on (Habitat PointNav defaults).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AgentParams {
+    /// Agent (cylinder) radius (m, default 0.1).
+    pub radius: f64,
+    /// Agent height (m, default 1.5).
+    pub height: f64,
+    /// Highest step the agent climbs (m, default 0.2).
+    pub max_climb: f64,
+    /// Steepest walkable slope (degrees, default 45).
+    pub max_slope_deg: f64,
+    /// Cell size of the navigation grid (m, default 0.05).
+    pub cell_size: f64,
+}
+
+impl Default for AgentParams {
+    fn default() -> Self {
+        Self { radius: 0.1, height: 1.5, max_climb: 0.2, max_slope_deg: 45.0, cell_size: 0.05 }
+    }
+}
+
+/// Why a navigation grid could not be built.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum NavGridError {
+    /// A parameter is out of range.
+    #[error("agent parameter {field}: {reason}")]
+    BadParam {
+        /// The parameter's name.
+        field: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The scene has no walkable floor (or none near the requested height).
+    #[error("no walkable floor found{0}")]
+    NoFloor(String),
+    /// The grid would be too large.
+    #[error("the scene is {w} x {h} cells at {res} m: larger than the 40 million cell limit (raise cell_size)")]
+    TooLarge {
+        /// Cells along x.
+        w: usize,
+        /// Cells along y.
+        h: usize,
+        /// Cell size (m).
+        res: f64,
+    },
+}
+
+/// A connected component of the navigable region.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Island {
+    /// Number of cells.
+    pub cells: usize,
+    /// Area (m^2).
+    pub area: f64,
+    /// Centroid of the island's cell centres (m, world frame).
+    pub centre: Point2,
+    /// Largest distance from the centroid to a cell centre of the island (m).
+    pub radius: f64,
+}
+
+/// The navigable region of one floor.
+#[derive(Debug, Clone)]
+pub struct NavGrid {
+    /// The agent the region was built for.
+    pub params: AgentParams,
+    /// Floor height (m, world z).
+    pub floor_z: f64,
+    pub(crate) spec: GridSpec,
+    /// Walkable floor height per cell (m), NaN where there is none.
+    pub(crate) ground: Vec<f32>,
+    /// True where geometry stands in the agent's body band.
+    pub(crate) occupied: Vec<bool>,
+    /// Distance from the cell centre to the nearest obstacle (m, capped).
+    pub(crate) clearance: Vec<f32>,
+    /// Island index per cell (`u32::MAX`: not navigable).
+    pub(crate) island_of: Vec<u32>,
+    /// The islands.
+    pub islands: Vec<Island>,
+    /// True for navigable cells on the region's boundary (where shortest paths may bend).
+    pub(crate) corner: Vec<bool>,
+    /// Where a shortest path bending at a corner cell touches the region's boundary (m).
+    pub(crate) anchor: Vec<[f64; 2]>,
+    /// Nearest obstacle point per cell (m) where it is a scene obstacle within reach, else NaN.
+    pub(crate) nearest: Vec<[f32; 2]>,
+}
+
+impl NavGrid {
+    /// Builds the navigable region of `scene` on the floor at height `floor_z` (m).
+    pub fn build(scene: &Scene, params: &AgentParams, floor_z: f64) -> Result<NavGrid, NavGridError> {
+        validate(params)?;
+        let b = scene.bounds();
+        if b.is_empty() {
+            return Err(NavGridError::NoFloor(": the scene is empty".into()));
+        }
+        let res = params.cell_size;
+        let pad = 2.0 * res;
+        let x0 = ((b.min[0] as f64 - pad) / res).floor() * res;
+        let y0 = ((b.min[1] as f64 - pad) / res).floor() * res;
+        let w = (((b.max[0] as f64 + pad) - x0) / res).ceil() as usize;
+        let h = (((b.max[1] as f64 + pad) - y0) / res).ceil() as usize;
+        if w.saturating_mul(h) > 40_000_000 {
+            return Err(NavGridError::TooLarge { w, h, res });
+        }
+        let spec = GridSpec { x0, y0, res, w, h };
+        let n = w * h;
+        let band_lo = floor_z + params.max_climb;
+        let band_hi = floor_z + params.height;
+        let ground_lo = floor_z - params.max_climb;
+        let ground_hi = floor_z + params.max_climb;
+        let cos_slope = params.max_slope_deg.to_radians().cos();
+
+        let mut ground = vec![f32::NAN; n];
+        let mut occupied = vec![false; n];
+        let mut segs = Vec::new();
+        for t in scene.triangles() {
+            let t = t.map(|p| p.map(|v| v as f64));
+            let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
+            let zhi = t[0][2].max(t[1][2]).max(t[2][2]);
+            let Some(nz) = raster::abs_normal_z(&t) else { continue };
+            let walkable = nz >= cos_slope && zhi >= ground_lo && zlo <= ground_hi;
+            let in_band = zhi > band_lo && zlo < band_hi;
+            if !walkable && !in_band {
+                continue;
+            }
+            raster::for_each_cell(&spec, &t, |c, r, lo, hi| {
+                let i = r * w + c;
+                if walkable && hi >= ground_lo && lo <= ground_hi {
+                    let g = hi.min(ground_hi) as f32;
+                    if ground[i].is_nan() || g > ground[i] {
+                        ground[i] = g;
+                    }
+                }
+                if hi > band_lo && lo < band_hi {
+                    occupied[i] = true;
+                }
+            });
+            if in_band {
+                clearance::band_segments(&t, band_lo, band_hi, &mut segs);
+            }
+        }
+        if ground.iter().all(|g| g.is_nan()) {
+            return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
+        }
+        clearance::dedup_segments(&mut segs);
+        let cap = params.radius + 4.0 * res;
+        let (mut clear, mut nearest) = clearance::segment_distance(&spec, &segs, cap);
+        // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
+        let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+        let edge = clearance::edt(&no_floor, w, h);
+        for i in 0..n {
+            if occupied[i] || no_floor[i] {
+                clear[i] = 0.0;
+                continue;
+            }
+            let e = ((edge[i] as f64 - 0.5) * res).max(0.0) as f32;
+            if e < clear[i] {
+                clear[i] = e;
+                nearest[i] = [f32::NAN; 2];
+            }
+        }
+        let mut grid = NavGrid {
+            params: params.clone(),
+            floor_z,
+            spec,
+            ground,
+            occupied,
+            clearance: clear,
+            island_of: vec![u32::MAX; n],
+            islands: Vec::new(),
+            corner: vec![false; n],
+            anchor: Vec::new(),
+            nearest,
+        };
+        grid.label_islands();
+        grid.find_corners();
+        Ok(grid)
+    }
+
+    /// Grid size in cells (width, height).
+    pub fn size(&self) -> (usize, usize) {
+        (self.spec.w, self.spec.h)
+    }
+    /// Cell size (m).
+    pub fn resolution(&self) -> f64 {
+        self.spec.res
+    }
+    /// World position of the lower-left corner of cell (0, 0) (m).
+    pub fn origin(&self) -> Point2 {
+        Point2::new(self.spec.x0, self.spec.y0)
+    }
+    /// Number of navigable cells.
+    pub fn navigable_cells(&self) -> usize {
+        self.island_of.iter().filter(|&&i| i != u32::MAX).count()
+    }
+    /// Centre of cell index `i` (m).
+    pub(crate) fn center(&self, i: usize) -> [f64; 2] {
+        let (c, r) = (i % self.spec.w, i / self.spec.w);
+        [self.spec.x0 + (c as f64 + 0.5) * self.spec.res, self.spec.y0 + (r as f64 + 0.5) * self.spec.res]
+    }
+    /// Index of the cell containing `p`, or `None` outside the grid.
+    pub(crate) fn cell_of(&self, p: Point2) -> Option<usize> {
+        let c = ((p.x - self.spec.x0) / self.spec.res).floor();
+        let r = ((p.y - self.spec.y0) / self.spec.res).floor();
+        if !(c >= 0.0 && r >= 0.0 && c < self.spec.w as f64 && r < self.spec.h as f64) {
+            return None;
+        }
+        Some(r as usize * self.spec.w + c as usize)
+    }
+    /// Whether cell `i` is navigable.
+    pub(crate) fn is_nav_cell(&self, i: usize) -> bool {
+        self.island_of[i] != u32::MAX
+    }
+
+    /// Clearance at `p` (m): bilinear interpolation of the cell-centre distances; 0 outside.
+    pub fn clearance_at(&self, p: Point2) -> f64 {
+        let fx = (p.x - self.spec.x0) / self.spec.res - 0.5;
+        let fy = (p.y - self.spec.y0) / self.spec.res - 0.5;
+        if !(fx >= 0.0 && fy >= 0.0 && fx < (self.spec.w - 1) as f64 && fy < (self.spec.h - 1) as f64) {
+            return 0.0;
+        }
+        let (c, r) = (fx as usize, fy as usize);
+        let (tx, ty) = (fx - c as f64, fy - r as f64);
+        let w = self.spec.w;
+        let v = |cc: usize, rr: usize| self.clearance[rr * w + cc] as f64;
+        let a = v(c, r) * (1.0 - tx) + v(c + 1, r) * tx;
+        let b = v(c, r + 1) * (1.0 - tx) + v(c + 1, r + 1) * tx;
+        a * (1.0 - ty) + b * ty
+    }
+
+    /// Whether the agent fits at `p` (m, planar) on this floor.
+    pub fn is_navigable(&self, p: Point2) -> bool {
+        match self.cell_of(p) {
+            Some(i) if self.ground[i].is_finite() => self.clearance_at(p) >= self.params.radius - NAV_TOLERANCE,
+            _ => false,
+        }
+    }
+
+    /// The island of `p`: that of its cell, or of the nearest navigable cell within one cell.
+    pub fn island_at(&self, p: Point2) -> Option<u32> {
+        let i = self.cell_of(p)?;
+        if self.is_nav_cell(i) {
+            return Some(self.island_of[i]);
+        }
+        self.nearest_nav_cell(p, 1).map(|j| self.island_of[j])
+    }
+
+    /// The navigable cell nearest to `p` within `reach` cells, if any.
+    pub(crate) fn nearest_nav_cell(&self, p: Point2, reach: isize) -> Option<usize> {
+        let i = self.cell_of(p)?;
+        let (c, r) = ((i % self.spec.w) as isize, (i / self.spec.w) as isize);
+        let mut best: Option<(f64, usize)> = None;
+        for dr in -reach..=reach {
+            for dc in -reach..=reach {
+                let (cc, rr) = (c + dc, r + dr);
+                if cc < 0 || rr < 0 || cc >= self.spec.w as isize || rr >= self.spec.h as isize {
+                    continue;
+                }
+                let j = rr as usize * self.spec.w + cc as usize;
+                if self.is_nav_cell(j) {
+                    let q = self.center(j);
+                    let d = (q[0] - p.x).hypot(q[1] - p.y);
+                    if best.is_none_or(|(bd, bj)| d < bd || (d == bd && j < bj)) {
+                        best = Some((d, j));
+                    }
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+
+    /// The map of this floor in map_server terms: occupied where geometry stands in the body
+    /// band, free where there is walkable floor, unknown elsewhere.
+    ///
+    /// Free pockets smaller than `min_pocket_area` (m^2; the insides of thick walls) count as occupied.
+    pub fn occupancy_grid(&self, min_pocket_area: f64) -> OccupancyGrid {
+        let (w, h) = (self.spec.w, self.spec.h);
+        let mut g = OccupancyGrid::new(w, h, self.spec.res, Pose2::new(self.spec.x0, self.spec.y0, 0.0), GRID_UNKNOWN);
+        for i in 0..w * h {
+            g.data[i] = if self.occupied[i] {
+                GRID_OCCUPIED
+            } else if self.ground[i].is_finite() {
+                GRID_FREE
+            } else {
+                GRID_UNKNOWN
+            };
+        }
+        let min_cells = (min_pocket_area / (self.spec.res * self.spec.res)).ceil() as usize;
+        let free: Vec<bool> = g.data.iter().map(|&v| v == GRID_FREE).collect();
+        let (labels, sizes) = components(&free, w, h);
+        for i in 0..w * h {
+            if labels[i] != u32::MAX && sizes[labels[i] as usize] < min_cells {
+                g.data[i] = GRID_OCCUPIED;
+            }
+        }
+        g
+    }
+
+    fn label_islands(&mut self) {
+        let (w, h) = (self.spec.w, self.spec.h);
+        let nav: Vec<bool> = (0..w * h)
+            .map(|i| self.ground[i].is_finite() && self.clearance[i] as f64 >= self.params.radius)
+            .collect();
+        let (labels, sizes) = components(&nav, w, h);
+        let mut sum = vec![[0.0f64; 2]; sizes.len()];
+        for i in 0..w * h {
+            if labels[i] != u32::MAX {
+                let p = self.center(i);
+                let s = &mut sum[labels[i] as usize];
+                s[0] += p[0];
+                s[1] += p[1];
+            }
+        }
+        let centres: Vec<[f64; 2]> = sum.iter().zip(&sizes).map(|(s, &n)| [s[0] / n as f64, s[1] / n as f64]).collect();
+        let mut radius = vec![0.0f64; sizes.len()];
+        for i in 0..w * h {
+            if labels[i] != u32::MAX {
+                let k = labels[i] as usize;
+                let p = self.center(i);
+                radius[k] = radius[k].max((p[0] - centres[k][0]).hypot(p[1] - centres[k][1]));
+            }
+        }
+        let a = self.spec.res * self.spec.res;
+        self.islands = (0..sizes.len())
+            .map(|k| Island {
+                cells: sizes[k],
+                area: sizes[k] as f64 * a,
+                centre: Point2::new(centres[k][0], centres[k][1]),
+                radius: radius[k],
+            })
+            .collect();
+        self.island_of = labels;
+    }
+
+    fn find_corners(&mut self) {
+        let (w, h) = (self.spec.w as isize, self.spec.h as isize);
+        let r = self.params.radius;
+        let nav = |c: isize, rr: isize| c >= 0 && rr >= 0 && c < w && rr < h && self.island_of[(rr * w + c) as usize] != u32::MAX;
+        let mut anchor: Vec<[f64; 2]> = (0..(w * h) as usize).map(|i| self.center(i)).collect();
+        for rr in 0..h {
+            for c in 0..w {
+                if !nav(c, rr) {
+                    continue;
+                }
+                // Any cell on the region's boundary may be a bend point: convex corners of the
+                // obstacles are arcs of radius r, and shortest paths touch them anywhere.
+                let on_boundary = (-1..=1).any(|dy| (-1..=1).any(|dx| !nav(c + dx, rr + dy)));
+                if !on_boundary {
+                    continue;
+                }
+                let i = (rr * w + c) as usize;
+                self.corner[i] = true;
+                // Move the bend point onto the true boundary: radius r from the nearest obstacle.
+                let q = self.nearest[i];
+                if q[0].is_finite() {
+                    let p = self.center(i);
+                    let d = [p[0] - q[0] as f64, p[1] - q[1] as f64];
+                    let l = d[0].hypot(d[1]);
+                    if l > 1e-9 {
+                        anchor[i] = [q[0] as f64 + d[0] / l * r, q[1] as f64 + d[1] / l * r];
+                    }
+                }
+            }
+        }
+        self.anchor = anchor;
+    }
+}
+
+/// 4-connected components of `mask`: label per cell (`u32::MAX` outside) and size per label.
+fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<usize>) {
+    let mut labels = vec![u32::MAX; w * h];
+    let mut sizes = Vec::new();
+    let mut stack = Vec::new();
+    for s in 0..w * h {
+        if !mask[s] || labels[s] != u32::MAX {
+            continue;
+        }
+        let k = sizes.len() as u32;
+        labels[s] = k;
+        stack.push(s);
+        let mut n = 0;
+        while let Some(i) = stack.pop() {
+            n += 1;
+            let (c, r) = (i % w, i / w);
+            let mut visit = |j: usize| {
+                if mask[j] && labels[j] == u32::MAX {
+                    labels[j] = k;
+                    stack.push(j);
+                }
+            };
+            if c > 0 {
+                visit(i - 1);
+            }
+            if c + 1 < w {
+                visit(i + 1);
+            }
+            if r > 0 {
+                visit(i - w);
+            }
+            if r + 1 < h {
+                visit(i + w);
+            }
+        }
+        sizes.push(n);
+    }
+    (labels, sizes)
+}
+
+fn validate(p: &AgentParams) -> Result<(), NavGridError> {
+    let check = |field: &'static str, v: f64, ok: bool, want: &str| {
+        if v.is_finite() && ok {
+            Ok(())
+        } else {
+            Err(NavGridError::BadParam { field, reason: format!("must be {want}, got {v}") })
+        }
+    };
+    check("radius", p.radius, p.radius > 0.0, "> 0")?;
+    check("height", p.height, p.height > p.max_climb, "> max_climb")?;
+    check("max_climb", p.max_climb, p.max_climb >= 0.0, ">= 0")?;
+    check("max_slope_deg", p.max_slope_deg, (0.0..90.0).contains(&p.max_slope_deg), "in [0, 90)")?;
+    check("cell_size", p.cell_size, p.cell_size >= 0.005 && p.cell_size <= 0.5, "in [0.005, 0.5]")?;
+    Ok(())
+}

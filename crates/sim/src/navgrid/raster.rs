@@ -1,0 +1,163 @@
+//! Triangle-to-cell rasterisation: which triangles touch a cell, at which heights.
+//!
+//! Conservative and exact: each triangle is clipped against a cell's square column, and the
+//! height range of the clipped polygon decides what the cell holds. No sampling, so thin
+//! walls and chair legs are never missed.
+
+/// A convex polygon in 3D with at most a few vertices (clipping a triangle by four planes).
+pub(crate) type Poly = Vec<[f64; 3]>;
+
+/// Clips `poly` to `lo <= p[axis] <= hi` (Sutherland-Hodgman, two half-planes).
+pub(crate) fn clip_slab(poly: &[[f64; 3]], axis: usize, lo: f64, hi: f64, out: &mut Poly) {
+    let mut tmp: Poly = Vec::with_capacity(poly.len() + 2);
+    clip_half(poly, axis, lo, true, &mut tmp);
+    out.clear();
+    clip_half(&tmp, axis, hi, false, out);
+}
+
+/// Keeps the part with `p[axis] >= v` (`keep_above`) or `p[axis] <= v`.
+fn clip_half(poly: &[[f64; 3]], axis: usize, v: f64, keep_above: bool, out: &mut Poly) {
+    out.clear();
+    let n = poly.len();
+    if n == 0 {
+        return;
+    }
+    let inside = |p: &[f64; 3]| if keep_above { p[axis] >= v } else { p[axis] <= v };
+    for i in 0..n {
+        let a = poly[i];
+        let b = poly[(i + 1) % n];
+        let (ia, ib) = (inside(&a), inside(&b));
+        if ia {
+            out.push(a);
+        }
+        if ia != ib {
+            let t = (v - a[axis]) / (b[axis] - a[axis]);
+            let mut p = [0.0; 3];
+            for k in 0..3 {
+                p[k] = a[k] + t * (b[k] - a[k]);
+            }
+            p[axis] = v;
+            out.push(p);
+        }
+    }
+}
+
+/// Height range (min z, max z) of a polygon; `None` when empty.
+pub(crate) fn z_range(poly: &[[f64; 3]]) -> Option<(f64, f64)> {
+    if poly.is_empty() {
+        return None;
+    }
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for p in poly {
+        lo = lo.min(p[2]);
+        hi = hi.max(p[2]);
+    }
+    Some((lo, hi))
+}
+
+/// Grid geometry shared by the rasteriser: origin (m), cell size (m), size in cells.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GridSpec {
+    pub x0: f64,
+    pub y0: f64,
+    pub res: f64,
+    pub w: usize,
+    pub h: usize,
+}
+
+/// Calls `f(col, row, zmin, zmax)` for every cell whose square column the triangle touches,
+/// with the height range of the triangle's part inside that column.
+pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], mut f: impl FnMut(usize, usize, f64, f64)) {
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for p in tri {
+        xmin = xmin.min(p[0]);
+        xmax = xmax.max(p[0]);
+        ymin = ymin.min(p[1]);
+        ymax = ymax.max(p[1]);
+    }
+    let c0 = (((xmin - g.x0) / g.res).floor().max(0.0)) as usize;
+    let c1 = (((xmax - g.x0) / g.res).floor() as isize).min(g.w as isize - 1);
+    let r0 = (((ymin - g.y0) / g.res).floor().max(0.0)) as usize;
+    let r1 = (((ymax - g.y0) / g.res).floor() as isize).min(g.h as isize - 1);
+    if c1 < c0 as isize || r1 < r0 as isize {
+        return;
+    }
+    let (c1, r1) = (c1 as usize, r1 as usize);
+    // Whole triangle inside one cell: no clipping needed.
+    if c0 == c1 && r0 == r1 {
+        if let Some((lo, hi)) = z_range(tri) {
+            f(c0, r0, lo, hi);
+        }
+        return;
+    }
+    let mut row_poly: Poly = Vec::with_capacity(8);
+    let mut cell_poly: Poly = Vec::with_capacity(10);
+    for r in r0..=r1 {
+        let ylo = g.y0 + r as f64 * g.res;
+        clip_slab(tri, 1, ylo, ylo + g.res, &mut row_poly);
+        if row_poly.is_empty() {
+            continue;
+        }
+        for c in c0..=c1 {
+            let xlo = g.x0 + c as f64 * g.res;
+            clip_slab(&row_poly, 0, xlo, xlo + g.res, &mut cell_poly);
+            if let Some((lo, hi)) = z_range(&cell_poly) {
+                f(c, r, lo, hi);
+            }
+        }
+    }
+}
+
+/// Unit normal's z component magnitude of a triangle (1 for horizontal, 0 for vertical);
+/// `None` for a degenerate triangle.
+pub(crate) fn abs_normal_z(t: &[[f64; 3]; 3]) -> Option<f64> {
+    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
+    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len <= 1e-12 {
+        return None;
+    }
+    Some((n[2] / len).abs())
+}
+
+/// Area of a triangle (m^2) and of its projection on the ground plane (m^2).
+pub(crate) fn areas(t: &[[f64; 3]; 3]) -> (f64, f64) {
+    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
+    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    (0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt(), 0.5 * n[2].abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vertical_triangle_marks_the_cells_it_crosses() {
+        // A vertical wall triangle along y = 0.51 from x = 0 to 1, z 0..2.
+        let g = GridSpec { x0: 0.0, y0: 0.0, res: 0.1, w: 10, h: 10 };
+        let tri = [[0.0, 0.51, 0.0], [1.0, 0.51, 0.0], [0.0, 0.51, 2.0]];
+        let mut cells = Vec::new();
+        for_each_cell(&g, &tri, |c, r, lo, hi| cells.push((c, r, lo, hi)));
+        assert_eq!(cells.len(), 10);
+        assert!(cells.iter().all(|&(_, r, lo, _)| r == 5 && lo.abs() < 1e-12));
+        // The wall's height over the cell at x in [0.9, 1.0] is at most 0.2.
+        let last = cells.iter().find(|c| c.0 == 9).unwrap();
+        assert!((last.3 - 0.2).abs() < 1e-9, "{last:?}");
+    }
+
+    #[test]
+    fn horizontal_triangle_covers_its_area() {
+        let g = GridSpec { x0: 0.0, y0: 0.0, res: 0.1, w: 10, h: 10 };
+        let tri = [[0.0, 0.0, 0.3], [1.0, 0.0, 0.3], [0.0, 1.0, 0.3]];
+        let mut n = 0;
+        for_each_cell(&g, &tri, |_, _, lo, hi| {
+            assert!((lo - 0.3).abs() < 1e-12 && (hi - 0.3).abs() < 1e-12);
+            n += 1;
+        });
+        // 10 rows: row r touches cells c with c*0.1 < 1 - r*0.1, i.e. 10 - r cells, plus the diagonal ones.
+        assert!((55..=65).contains(&n), "{n}");
+    }
+}
