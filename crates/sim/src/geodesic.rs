@@ -90,7 +90,7 @@ impl GeodesicField {
                     }
                 }
                 let ck = grid.center(k);
-                let (cand, par) = if segment_clear(grid, qp, ck) {
+                let (cand, par) = if segment_clear(grid, qp, ck, LOS_EPS) {
                     (qd + dist2(qp, ck), q)
                 } else {
                     (f.anchor_dist[m] + dist2(grid.anchor[m], ck), m as u32)
@@ -199,10 +199,11 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// shorter than the exact one by under 1 cm.
 const LOS_EPS: f64 = 0.003;
 
-/// Whether the agent can slide along the straight segment from `a` to `b` (m): every cell the
+/// Whether the agent can slide along the straight segment from `a` to `b` (m), `eps` (m) inside
+/// the clearance radius allowed: every cell the
 /// segment crosses is either clear by a whole cell's half-diagonal, or its nearest obstacle
-/// point is at least `radius` from the segment (exact at convex corners and along walls).
-pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2]) -> bool {
+/// obstacle segment is at least `radius` from it (exact along walls and at convex corners).
+pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) -> bool {
     let (w, h) = grid.size();
     let res = grid.resolution();
     let o = grid.origin();
@@ -216,13 +217,9 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2]) -> bool {
         if cl <= 0.0 {
             return false;
         }
-        let q = grid.nearest[i];
-        if q[0].is_finite() {
-            let s = [a, b];
-            let c = crate::navgrid::closest_on_segment([q[0] as f64, q[1] as f64], &s);
-            (c[0] - q[0] as f64).hypot(c[1] - q[1] as f64) >= r - LOS_EPS
-        } else {
-            cl >= r - 0.25 * res
+        match grid.nearest_segment_distance(i, &[a, b]) {
+            Some(d) => d >= r - eps,
+            None => cl >= r - eps.max(0.25 * res),
         }
     };
     // Amanatides-Woo traversal of the cells the segment crosses.

@@ -41,6 +41,23 @@ pub(crate) fn dedup_segments(segs: &mut Vec<Seg>) {
     *segs = keyed.into_iter().map(|(_, s)| s).collect();
 }
 
+/// Distance between two segments (m): 0 when they cross.
+pub(crate) fn segment_segment_distance(a: &Seg, b: &Seg) -> f64 {
+    let cross = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0]);
+    let d1 = cross(a[0], a[1], b[0]);
+    let d2 = cross(a[0], a[1], b[1]);
+    let d3 = cross(b[0], b[1], a[0]);
+    let d4 = cross(b[0], b[1], a[1]);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return 0.0;
+    }
+    let pd = |p: [f64; 2], s: &Seg| {
+        let c = closest_on_segment(p, s);
+        (c[0] - p[0]).hypot(c[1] - p[1])
+    };
+    pd(a[0], b).min(pd(a[1], b)).min(pd(b[0], a)).min(pd(b[1], a))
+}
+
 /// Closest point of segment `s` to `p`.
 pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
     let d = [s[1][0] - s[0][0], s[1][1] - s[0][1]];
@@ -49,18 +66,14 @@ pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
     [s[0][0] + t * d[0], s[0][1] + t * d[1]]
 }
 
-/// Exact distance (m, capped at `cap`) from each cell centre to the segments, and the
-/// nearest obstacle point of each cell within the cap (`[NaN, NaN]` beyond it).
-pub(crate) fn segment_distance(
-    spec: &super::raster::GridSpec,
-    segs: &[Seg],
-    cap: f64,
-) -> (Vec<f32>, Vec<[f32; 2]>) {
+/// Exact distance (m, capped at `cap`) from each cell centre to the segments, and the index of
+/// the nearest segment of each cell within the cap (`u32::MAX` beyond it).
+pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap: f64) -> (Vec<f32>, Vec<u32>) {
     let n = spec.w * spec.h;
     let mut dist = vec![cap as f32; n];
-    let mut near = vec![[f32::NAN; 2]; n];
+    let mut near = vec![u32::MAX; n];
     let mut best = vec![cap * cap; n];
-    for s in segs {
+    for (k, s) in segs.iter().enumerate() {
         let xmin = s[0][0].min(s[1][0]) - cap;
         let xmax = s[0][0].max(s[1][0]) + cap;
         let ymin = s[0][1].min(s[1][1]) - cap;
@@ -81,7 +94,7 @@ pub(crate) fn segment_distance(
                 let i = r * spec.w + c;
                 if d2 < best[i] {
                     best[i] = d2;
-                    near[i] = [q[0] as f32, q[1] as f32];
+                    near[i] = k as u32;
                 }
             }
         }
@@ -184,6 +197,14 @@ mod tests {
     use super::*;
 
     #[test]
+    fn segment_distances() {
+        let a = [[0.0, 0.0], [1.0, 0.0]];
+        assert_eq!(segment_segment_distance(&a, &[[0.5, -1.0], [0.5, 1.0]]), 0.0);
+        assert!((segment_segment_distance(&a, &[[2.0, 1.0], [2.0, 3.0]]) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((segment_segment_distance(&a, &[[0.2, 0.3], [0.8, 0.3]]) - 0.3).abs() < 1e-12);
+    }
+
+    #[test]
     fn edt_matches_brute_force() {
         let (w, h) = (13, 9);
         let blocked: Vec<bool> = (0..w * h).map(|i| (i * 7919 + 3) % 17 == 0).collect();
@@ -210,7 +231,8 @@ mod tests {
         let (d, near) = segment_distance(&spec, &segs, 0.5);
         // Cell (7, 3) centre at x = 0.75: 0.25 m from the segment.
         assert!((d[3 * 20 + 7] - 0.25).abs() < 1e-6);
-        assert!((near[3 * 20 + 7][0] - 1.0).abs() < 1e-6);
+        assert_eq!(near[3 * 20 + 7], 0);
+        assert_eq!(near[3 * 20], u32::MAX);
         assert_eq!(d[3 * 20], 0.5);
     }
 }

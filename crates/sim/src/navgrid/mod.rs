@@ -106,8 +106,11 @@ pub struct NavGrid {
     pub(crate) corner: Vec<bool>,
     /// Where a shortest path bending at a corner cell touches the region's boundary (m).
     pub(crate) anchor: Vec<[f64; 2]>,
-    /// Nearest obstacle point per cell (m) where it is a scene obstacle within reach, else NaN.
-    pub(crate) nearest: Vec<[f32; 2]>,
+    /// The obstacle segments (m): scene geometry in the body band, projected to the ground.
+    pub(crate) segments: Vec<clearance::Seg>,
+    /// Index of the segment nearest to each cell centre, when a segment is the nearest
+    /// obstacle and within reach (`u32::MAX` otherwise).
+    pub(crate) nearest: Vec<u32>,
 }
 
 impl NavGrid {
@@ -181,7 +184,7 @@ impl NavGrid {
             let e = ((edge[i] as f64 - 0.5) * res).max(0.0) as f32;
             if e < clear[i] {
                 clear[i] = e;
-                nearest[i] = [f32::NAN; 2];
+                nearest[i] = u32::MAX;
             }
         }
         let mut grid = NavGrid {
@@ -195,6 +198,7 @@ impl NavGrid {
             islands: Vec::new(),
             corner: vec![false; n],
             anchor: Vec::new(),
+            segments: segs,
             nearest,
         };
         grid.label_islands();
@@ -294,6 +298,45 @@ impl NavGrid {
         best.map(|b| b.1)
     }
 
+    /// A uniformly random navigable point (m, with its floor height as z) among `cells`
+    /// (indices of navigable cells; all of them when empty), or `None` after 16 misses.
+    pub fn sample_navigable_point(&self, cells: &[usize], rng: &mut impl rand::Rng) -> Option<xhab_types::Point3> {
+        let pick = |rng: &mut dyn rand::RngCore| -> Option<usize> {
+            if cells.is_empty() {
+                let n = self.navigable_cells();
+                if n == 0 {
+                    return None;
+                }
+                let k = rng.next_u64() as usize % n;
+                self.island_of.iter().enumerate().filter(|(_, &l)| l != u32::MAX).nth(k).map(|(i, _)| i)
+            } else {
+                Some(cells[(rng.next_u64() % cells.len() as u64) as usize])
+            }
+        };
+        for _ in 0..16 {
+            let i = pick(rng)?;
+            let c = self.center(i);
+            let res = self.spec.res;
+            let p = Point2::new(c[0] + (rng.gen::<f64>() - 0.5) * res, c[1] + (rng.gen::<f64>() - 0.5) * res);
+            if let Some(j) = self.cell_of(p) {
+                if self.is_nav_cell(j) && self.is_navigable(p) {
+                    return Some(xhab_types::Point3::new(p.x, p.y, self.ground[j] as f64));
+                }
+            }
+        }
+        None
+    }
+
+    /// Indices of navigable cells on islands of at least `min_radius` (m).
+    pub fn cells_on_islands(&self, min_radius: f64) -> Vec<usize> {
+        (0..self.island_of.len())
+            .filter(|&i| {
+                let k = self.island_of[i];
+                k != u32::MAX && self.islands[k as usize].radius >= min_radius
+            })
+            .collect()
+    }
+
     /// The map of this floor in map_server terms: occupied where geometry stands in the body
     /// band, free where there is walkable floor, unknown elsewhere.
     ///
@@ -357,6 +400,18 @@ impl NavGrid {
         self.island_of = labels;
     }
 
+    /// The point of cell `i`'s nearest obstacle segment closest to `p` (m), if the cell has one.
+    pub(crate) fn nearest_point(&self, i: usize, p: [f64; 2]) -> Option<[f64; 2]> {
+        let k = *self.nearest.get(i)?;
+        (k != u32::MAX).then(|| closest_on_segment(p, &self.segments[k as usize]))
+    }
+
+    /// Distance from segment `s` to cell `i`'s nearest obstacle segment (m), if it has one.
+    pub(crate) fn nearest_segment_distance(&self, i: usize, s: &clearance::Seg) -> Option<f64> {
+        let k = *self.nearest.get(i)?;
+        (k != u32::MAX).then(|| clearance::segment_segment_distance(s, &self.segments[k as usize]))
+    }
+
     fn find_corners(&mut self) {
         let (w, h) = (self.spec.w as isize, self.spec.h as isize);
         let r = self.params.radius;
@@ -376,13 +431,12 @@ impl NavGrid {
                 let i = (rr * w + c) as usize;
                 self.corner[i] = true;
                 // Move the bend point onto the true boundary: radius r from the nearest obstacle.
-                let q = self.nearest[i];
-                if q[0].is_finite() {
+                if let Some(q) = self.nearest_point(i, self.center(i)) {
                     let p = self.center(i);
-                    let d = [p[0] - q[0] as f64, p[1] - q[1] as f64];
+                    let d = [p[0] - q[0], p[1] - q[1]];
                     let l = d[0].hypot(d[1]);
                     if l > 1e-9 {
-                        anchor[i] = [q[0] as f64 + d[0] / l * r, q[1] as f64 + d[1] / l * r];
+                        anchor[i] = [q[0] + d[0] / l * r, q[1] + d[1] / l * r];
                     }
                 }
             }

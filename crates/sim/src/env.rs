@@ -1,0 +1,224 @@
+//! The discrete PointNav simulator: Habitat's actions, no physics, and the task's metrics.
+
+use crate::action::Action;
+use crate::episode::Episode;
+use crate::geodesic::GeodesicField;
+use crate::kinematic::try_step;
+use crate::metrics::{spl, EpisodeMetrics};
+use crate::navgrid::NavGrid;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use xhab_types::{normalize_angle, Point2, Pose2};
+
+/// The PointNav task's settings (Habitat defaults).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TaskConfig {
+    /// Distance of `move_forward` (m, default 0.25).
+    pub forward_step_size: f64,
+    /// Angle of `turn_left` / `turn_right` (degrees, default 10).
+    pub turn_angle: f64,
+    /// Actions after which an episode ends (default 500).
+    pub max_episode_steps: u32,
+    /// Success radius around the goal, strict (m, default 0.2).
+    pub success_distance: f64,
+}
+
+impl Default for TaskConfig {
+    fn default() -> Self {
+        Self { forward_step_size: 0.25, turn_angle: 10.0, max_episode_steps: 500, success_distance: 0.2 }
+    }
+}
+
+/// What the agent observes after each step (no images in this mode).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Observation {
+    /// Ground-truth pose in the world frame (m, rad).
+    pub pose: Pose2,
+    /// GPS: position relative to the episode start, in the start's frame (m).
+    pub gps: Point2,
+    /// Compass: heading relative to the start heading (rad, in (-pi, pi]).
+    pub compass: f64,
+    /// Goal relative to the agent, polar: distance (m) and bearing (rad, CCW, 0 ahead).
+    pub pointgoal: [f64; 2],
+}
+
+/// Why an episode cannot be run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum InvalidEpisode {
+    /// The start is not navigable for the agent.
+    #[error("start ({x:.3}, {y:.3}) is not navigable for the agent")]
+    StartNotNavigable {
+        /// x (m, world).
+        x: f64,
+        /// y (m, world).
+        y: f64,
+    },
+    /// A goal is not navigable for the agent.
+    #[error("goal ({x:.3}, {y:.3}) is not navigable for the agent")]
+    GoalNotNavigable {
+        /// x (m, world).
+        x: f64,
+        /// y (m, world).
+        y: f64,
+    },
+    /// No goal can be reached from the start (another island).
+    #[error("no goal is reachable from the start")]
+    Unreachable,
+    /// The episode has no goal.
+    #[error("the episode has no goal")]
+    NoGoal,
+}
+
+/// The result of one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepResult {
+    /// The observation after the step.
+    pub obs: Observation,
+    /// Whether the episode is over (stop called or the step limit reached).
+    pub done: bool,
+    /// Whether the motion was blocked or deflected.
+    pub collided: bool,
+}
+
+/// One running episode on one floor.
+#[derive(Debug, Clone)]
+pub struct Env {
+    grid: Arc<NavGrid>,
+    field: Arc<GeodesicField>,
+    config: TaskConfig,
+    start: Pose2,
+    goals: Vec<Point2>,
+    pose: Pose2,
+    steps: u32,
+    collisions: u32,
+    path_length: f64,
+    d0: f64,
+    called_stop: bool,
+    done: bool,
+}
+
+impl Env {
+    /// Starts `episode` on `grid` (the grid of the episode's floor).
+    pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
+        let start = Pose2::new(episode.start_position.x, episode.start_position.y, normalize_angle(episode.start_yaw));
+        if !grid.is_navigable(start.position()) {
+            return Err(InvalidEpisode::StartNotNavigable { x: start.x, y: start.y });
+        }
+        if episode.goals.is_empty() {
+            return Err(InvalidEpisode::NoGoal);
+        }
+        let goals: Vec<Point2> = episode.goals.iter().map(|g| g.position.xy()).collect();
+        for g in &goals {
+            if !grid.is_navigable(*g) {
+                return Err(InvalidEpisode::GoalNotNavigable { x: g.x, y: g.y });
+            }
+        }
+        let field = Arc::new(GeodesicField::new(&grid, &goals));
+        let d0 = field.distance(&grid, start.position());
+        if !d0.is_finite() {
+            return Err(InvalidEpisode::Unreachable);
+        }
+        Ok(Env {
+            grid,
+            field,
+            config,
+            start,
+            goals,
+            pose: start,
+            steps: 0,
+            collisions: 0,
+            path_length: 0.0,
+            d0,
+            called_stop: false,
+            done: false,
+        })
+    }
+
+    /// The observation at the current pose.
+    pub fn observe(&self) -> Observation {
+        let rel = self.start.inverse().compose(self.pose);
+        let g = self.goals[0];
+        let (dx, dy) = (g.x - self.pose.x, g.y - self.pose.y);
+        Observation {
+            pose: self.pose,
+            gps: rel.position(),
+            compass: rel.yaw,
+            pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - self.pose.yaw)],
+        }
+    }
+
+    /// Applies one action. Steps after the episode ended change nothing.
+    pub fn step(&mut self, action: Action) -> StepResult {
+        if self.done {
+            return StepResult { obs: self.observe(), done: true, collided: false };
+        }
+        let mut collided = false;
+        match action {
+            Action::Stop => self.called_stop = true,
+            Action::MoveForward => {
+                let (s, c) = self.pose.yaw.sin_cos();
+                let from = self.pose.position();
+                let to = Point2::new(from.x + c * self.config.forward_step_size, from.y + s * self.config.forward_step_size);
+                let (end, hit) = try_step(&self.grid, from, to);
+                self.path_length += from.dist(end);
+                self.pose.x = end.x;
+                self.pose.y = end.y;
+                collided = hit;
+            }
+            Action::TurnLeft => self.pose.yaw = normalize_angle(self.pose.yaw + self.config.turn_angle.to_radians()),
+            Action::TurnRight => self.pose.yaw = normalize_angle(self.pose.yaw - self.config.turn_angle.to_radians()),
+        }
+        self.steps += 1;
+        if collided {
+            self.collisions += 1;
+        }
+        self.done = self.called_stop || self.steps >= self.config.max_episode_steps;
+        StepResult { obs: self.observe(), done: self.done, collided }
+    }
+
+    /// Geodesic distance from the agent to the nearest goal (m).
+    pub fn distance_to_goal(&self) -> f64 {
+        self.field.distance(&self.grid, self.pose.position())
+    }
+
+    /// The metrics so far (final once the episode is done).
+    pub fn metrics(&self) -> EpisodeMetrics {
+        let dtg = self.distance_to_goal();
+        let success = self.called_stop && dtg < self.config.success_distance;
+        let (spl, soft_spl) = spl(success, self.d0, self.path_length, dtg);
+        EpisodeMetrics {
+            success: if success { 1.0 } else { 0.0 },
+            spl,
+            soft_spl,
+            distance_to_goal: dtg,
+            steps: self.steps,
+            collisions: self.collisions,
+            path_length: self.path_length,
+            start_distance: self.d0,
+            called_stop: self.called_stop,
+        }
+    }
+
+    /// Whether the episode is over.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+    /// The agent's ground-truth pose (m, rad).
+    pub fn pose(&self) -> Pose2 {
+        self.pose
+    }
+    /// The task settings.
+    pub fn config(&self) -> &TaskConfig {
+        &self.config
+    }
+    /// The navigation grid of the episode's floor.
+    pub fn grid(&self) -> &Arc<NavGrid> {
+        &self.grid
+    }
+    /// The geodesic field towards the episode's goals.
+    pub fn field(&self) -> &Arc<GeodesicField> {
+        &self.field
+    }
+}

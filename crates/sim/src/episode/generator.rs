@@ -1,0 +1,127 @@
+//! PointNav episode generation with Habitat's rules (habitat-lab `generate_pointnav_episode`).
+//!
+//! For each episode: sample a goal on an island of radius >= `island_radius_limit`, then up to
+//! `number_retries_per_target` starts; keep a start on the same floor (|dz| <= 0.5 m) whose
+//! geodesic distance is within [`closest_dist_limit`, `furthest_dist_limit`], and, when the
+//! geodesic/euclidean ratio is below `geodesic_to_euclid_min_ratio`, only with probability
+//! 20 * (ratio - 0.98)^2 (so that easy, straight episodes are rare).
+
+use super::{Dataset, Episode, Goal};
+use crate::geodesic::GeodesicField;
+use crate::navgrid::NavGrid;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// Settings of the episode generator (habitat-lab names and defaults).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GeneratorParams {
+    /// Shortest allowed geodesic start-goal distance (m, default 1).
+    pub closest_dist_limit: f64,
+    /// Longest allowed geodesic start-goal distance (m, default 30).
+    pub furthest_dist_limit: f64,
+    /// Below this geodesic/euclidean ratio an episode is kept only with probability
+    /// 20 (ratio - 0.98)^2 (default 1.1).
+    pub geodesic_to_euclid_min_ratio: f64,
+    /// Smallest island radius for goals (m, default 1.5).
+    pub island_radius_limit: f64,
+    /// Starts tried per goal (default 10).
+    pub number_retries_per_target: u32,
+    /// Radius stored with each goal (m, default 0.2).
+    pub goal_radius: f64,
+}
+
+impl Default for GeneratorParams {
+    fn default() -> Self {
+        Self {
+            closest_dist_limit: 1.0,
+            furthest_dist_limit: 30.0,
+            geodesic_to_euclid_min_ratio: 1.1,
+            island_radius_limit: 1.5,
+            number_retries_per_target: 10,
+            goal_radius: 0.2,
+        }
+    }
+}
+
+/// Why episodes could not be generated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum GenerateError {
+    /// No island is large enough for goals.
+    #[error("no navigable island has a radius of at least {0} m")]
+    NoIsland(f64),
+    /// Too many goals were tried without finding enough episodes.
+    #[error("found only {found} of {wanted} episodes after {tries} goals: the scene is too small or too cramped for the limits")]
+    Exhausted {
+        /// Episodes found.
+        found: usize,
+        /// Episodes asked for.
+        wanted: usize,
+        /// Goals tried.
+        tries: usize,
+    },
+}
+
+/// Generates `count` episodes on `grid` (one floor) from `seed`. The same grid, parameters
+/// and seed give the same episodes, bit for bit.
+pub fn generate_episodes(
+    grid: &NavGrid,
+    scene_id: &str,
+    count: usize,
+    seed: u64,
+    params: &GeneratorParams,
+) -> Result<Dataset, GenerateError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    // Cells of islands large enough for goals, sampled uniformly by area.
+    let cells = grid.cells_on_islands(params.island_radius_limit);
+    let all_cells = grid.cells_on_islands(0.0);
+    if cells.is_empty() {
+        return Err(GenerateError::NoIsland(params.island_radius_limit));
+    }
+    let mut episodes = Vec::with_capacity(count);
+    let max_targets = 200 * count.max(1) + 1000;
+    let mut tries = 0;
+    while episodes.len() < count {
+        if tries >= max_targets {
+            return Err(GenerateError::Exhausted { found: episodes.len(), wanted: count, tries });
+        }
+        tries += 1;
+        let Some(goal) = grid.sample_navigable_point(&cells, &mut rng) else { continue };
+        let field = GeodesicField::new(grid, &[goal.xy()]);
+        for _ in 0..params.number_retries_per_target {
+            let Some(start) = grid.sample_navigable_point(&all_cells, &mut rng) else { continue };
+            if (start.z - goal.z).abs() > 0.5 {
+                continue;
+            }
+            let d = field.distance(grid, start.xy());
+            if !d.is_finite() || d < params.closest_dist_limit || d > params.furthest_dist_limit {
+                continue;
+            }
+            let euclid = start.xy().dist(goal.xy()).max(1e-9);
+            let ratio = d / euclid;
+            if ratio < params.geodesic_to_euclid_min_ratio {
+                let keep = 20.0 * (ratio - 0.98).powi(2);
+                if rng.gen::<f64>() > keep {
+                    continue;
+                }
+            }
+            // Habitat draws the start rotation as an angle about the up axis; facing Habitat's
+            // -z is our yaw pi/2.
+            let angle = rng.gen::<f64>() * std::f64::consts::TAU;
+            let id = episodes.len();
+            episodes.push(Episode {
+                episode_id: id.to_string(),
+                scene_id: scene_id.to_string(),
+                start_position: start,
+                start_yaw: xhab_types::normalize_angle(angle + std::f64::consts::FRAC_PI_2),
+                goals: vec![Goal { position: goal, radius: params.goal_radius }],
+                geodesic_distance: Some(d),
+                info: serde_json::json!({ "geodesic_distance": d }),
+            });
+            break;
+        }
+    }
+    Ok(Dataset { episodes })
+}

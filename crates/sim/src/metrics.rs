@@ -1,0 +1,47 @@
+//! Habitat's PointNav metrics (habitat-lab 0.3 definitions).
+
+use serde::{Deserialize, Serialize};
+
+/// Metrics of one episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeMetrics {
+    /// 1 if `stop` was called with distance_to_goal < success_distance, else 0.
+    pub success: f64,
+    /// Success weighted by path length: success * d0 / max(d0, P).
+    pub spl: f64,
+    /// max(0, 1 - dtg / d0) * d0 / max(d0, P).
+    pub soft_spl: f64,
+    /// Geodesic distance from the agent to the nearest goal at the end (m).
+    pub distance_to_goal: f64,
+    /// Actions taken, `stop` included.
+    pub steps: u32,
+    /// Actions whose motion was blocked or deflected by an obstacle.
+    pub collisions: u32,
+    /// Length of the path actually travelled, P (m).
+    pub path_length: f64,
+    /// Geodesic distance from start to goal at reset, d0 (m).
+    pub start_distance: f64,
+    /// Whether the agent called `stop`.
+    pub called_stop: bool,
+}
+
+/// SPL and soft SPL from their ingredients (m).
+pub fn spl(success: bool, d0: f64, path_length: f64, dtg: f64) -> (f64, f64) {
+    let ratio = if d0 <= 0.0 { 1.0 } else { d0 / d0.max(path_length) };
+    let spl = if success { ratio } else { 0.0 };
+    let soft = if d0 <= 0.0 { if success { 1.0 } else { 0.0 } } else { (1.0 - dtg / d0).max(0.0) * ratio };
+    (spl, soft)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spl_matches_habitat() {
+        assert_eq!(spl(true, 5.0, 5.0, 0.1), (1.0, 0.98));
+        assert_eq!(spl(true, 5.0, 10.0, 0.1).0, 0.5);
+        assert_eq!(spl(false, 5.0, 4.0, 1.0), (0.0, 0.8));
+        assert_eq!(spl(false, 5.0, 4.0, 6.0).1, 0.0);
+    }
+}

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh Debian machine with Rust: installs what the tests need,
+# checks formatting-independent rules (dependency direction), then runs every test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# System packages the tests need (none yet beyond Rust; later issues add ROS 1 and Mesa).
+need=()
+if [ ${#need[@]} -gt 0 ]; then
+  if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  $SUDO DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}"
+fi
+
+# Shared third-party data (scenes, maps, episodes) lives beside the project.
+if [ -z "${XHAB_DATA:-}" ] && [ -d ../shared ]; then
+  export XHAB_DATA="$(cd ../shared && pwd)"
+fi
+if [ "${XHAB_REQUIRE_DATA:-0}" = 1 ] && [ ! -d "${XHAB_DATA:-../shared}/scenes" ]; then
+  echo "xhab test: XHAB_REQUIRE_DATA=1 but no shared data at ${XHAB_DATA:-../shared}" >&2
+  exit 1
+fi
+
+./scripts/check_deps.sh
+cargo test --workspace --locked 2>&1
