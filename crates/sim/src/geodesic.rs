@@ -90,8 +90,11 @@ impl GeodesicField {
                     }
                 }
                 let ck = grid.center(k);
-                let (cand, par) = if segment_clear(grid, qp, ck, LOS_EPS) {
-                    (qd + dist2(qp, ck), q)
+                // Through m's anchor first (a line of sight test only when it would improve k),
+                // else bending at m.
+                let via_q = qd + dist2(qp, ck);
+                let (cand, par) = if via_q < f.dist[k] && f.parent[k] != q && segment_clear(grid, qp, ck, LOS_EPS) {
+                    (via_q, q)
                 } else {
                     (f.anchor_dist[m] + dist2(grid.anchor[m], ck), m as u32)
                 };
