@@ -82,6 +82,28 @@ pub struct StepResult {
     pub collided: bool,
 }
 
+/// What agents and runners see of a running PointNav episode, with or without physics.
+pub trait DiscreteEnv: Send {
+    /// Applies one action (Habitat's discrete actions).
+    fn step(&mut self, action: Action) -> StepResult;
+    /// The observation at the current state.
+    fn observe(&self) -> Observation;
+    /// Whether the episode is over.
+    fn is_done(&self) -> bool;
+    /// The metrics so far (final once the episode is done).
+    fn metrics(&self) -> EpisodeMetrics;
+    /// The agent's ground-truth pose (m, rad).
+    fn pose(&self) -> Pose2;
+    /// Geodesic distance from the agent to the nearest goal (m).
+    fn distance_to_goal(&self) -> f64;
+    /// The task settings.
+    fn config(&self) -> &TaskConfig;
+    /// The navigation grid of the episode's floor.
+    fn grid(&self) -> &Arc<NavGrid>;
+    /// The geodesic field towards the episode's goals.
+    fn field(&self) -> &Arc<GeodesicField>;
+}
+
 /// One running episode on one floor.
 #[derive(Debug, Clone)]
 pub struct Env {
@@ -136,21 +158,11 @@ impl Env {
         })
     }
 
-    /// The observation at the current pose.
-    pub fn observe(&self) -> Observation {
-        let rel = self.start.inverse().compose(self.pose);
-        let g = self.goals[0];
-        let (dx, dy) = (g.x - self.pose.x, g.y - self.pose.y);
-        Observation {
-            pose: self.pose,
-            gps: rel.position(),
-            compass: rel.yaw,
-            pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - self.pose.yaw)],
-        }
-    }
+}
 
+impl DiscreteEnv for Env {
     /// Applies one action. Steps after the episode ended change nothing.
-    pub fn step(&mut self, action: Action) -> StepResult {
+    fn step(&mut self, action: Action) -> StepResult {
         if self.done {
             return StepResult { obs: self.observe(), done: true, collided: false };
         }
@@ -178,13 +190,26 @@ impl Env {
         StepResult { obs: self.observe(), done: self.done, collided }
     }
 
+    /// The observation at the current pose.
+    fn observe(&self) -> Observation {
+        let rel = self.start.inverse().compose(self.pose);
+        let g = self.goals[0];
+        let (dx, dy) = (g.x - self.pose.x, g.y - self.pose.y);
+        Observation {
+            pose: self.pose,
+            gps: rel.position(),
+            compass: rel.yaw,
+            pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - self.pose.yaw)],
+        }
+    }
+
     /// Geodesic distance from the agent to the nearest goal (m).
-    pub fn distance_to_goal(&self) -> f64 {
+    fn distance_to_goal(&self) -> f64 {
         self.field.distance(&self.grid, self.pose.position())
     }
 
     /// The metrics so far (final once the episode is done).
-    pub fn metrics(&self) -> EpisodeMetrics {
+    fn metrics(&self) -> EpisodeMetrics {
         let dtg = self.distance_to_goal();
         let success = self.called_stop && dtg < self.config.success_distance;
         let (spl, soft_spl) = spl(success, self.d0, self.path_length, dtg);
@@ -202,23 +227,23 @@ impl Env {
     }
 
     /// Whether the episode is over.
-    pub fn is_done(&self) -> bool {
+    fn is_done(&self) -> bool {
         self.done
     }
     /// The agent's ground-truth pose (m, rad).
-    pub fn pose(&self) -> Pose2 {
+    fn pose(&self) -> Pose2 {
         self.pose
     }
     /// The task settings.
-    pub fn config(&self) -> &TaskConfig {
+    fn config(&self) -> &TaskConfig {
         &self.config
     }
     /// The navigation grid of the episode's floor.
-    pub fn grid(&self) -> &Arc<NavGrid> {
+    fn grid(&self) -> &Arc<NavGrid> {
         &self.grid
     }
     /// The geodesic field towards the episode's goals.
-    pub fn field(&self) -> &Arc<GeodesicField> {
+    fn field(&self) -> &Arc<GeodesicField> {
         &self.field
     }
 }

@@ -2,7 +2,7 @@
 //! ShortestPathFollower.
 
 use crate::action::Action;
-use crate::env::Env;
+use crate::env::DiscreteEnv;
 use xhab_types::normalize_angle;
 
 /// Chooses the action that follows the geodesic shortest path: stop inside the success
@@ -19,7 +19,7 @@ impl ShortestPathFollower {
     }
 
     /// The next action for the agent in `env`.
-    pub fn act(&mut self, env: &Env) -> Action {
+    pub fn act(&mut self, env: &dyn DiscreteEnv) -> Action {
         let cfg = env.config();
         let d = env.distance_to_goal();
         // Stop a safe margin inside the strict success radius.

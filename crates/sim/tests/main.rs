@@ -1,3 +1,3 @@
 //! Integration tests of xhab-sim, one binary (topic files below).
-// pending dataset: mod env_oracle;
+mod env_oracle;
 mod geodesic_closed_form;
