@@ -4,8 +4,9 @@ use crate::geodesic::segment_clear;
 use crate::navgrid::{NavGrid, NAV_TOLERANCE};
 use xhab_types::Point2;
 
-/// How far inside the agent radius a move may end (m): rounding only.
-const MOTION_EPS: f64 = 1e-4;
+/// How far inside the agent radius a move may pass (m): the same tolerance as the geodesic's
+/// line of sight, so that every straight leg of a shortest path can be walked.
+const MOTION_EPS: f64 = crate::geodesic::LOS_EPS;
 
 /// Bisection steps when searching the last free point of a blocked move (2^-14 of a step).
 const BISECT: u32 = 14;
