@@ -1,2 +1,8 @@
-//! Wiring between agents and environments: in-process runs of episodes.
+//! Wiring between agents and environments.
+//!
+//! [`agents`]: the agents `xhab bench --agent` can run; [`runner`]: in-process episode runs,
+//! sequential or parallel with identical results.
 #![warn(missing_docs)]
+
+pub mod agents;
+pub mod runner;

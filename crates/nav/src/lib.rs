@@ -3,3 +3,4 @@
 //! For now: [`map_io`], map_server's PGM + YAML format, read and written exactly.
 #![warn(missing_docs)]
 pub mod map_io;
+pub mod map_server;

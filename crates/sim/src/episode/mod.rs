@@ -2,7 +2,9 @@
 
 pub mod dataset;
 mod generator;
+mod habitat_json;
 mod types;
 
 pub use generator::{generate_episodes, GenerateError, GeneratorParams};
+pub use habitat_json::{quaternion_from_yaw, read_dataset, to_json_string, write_dataset, yaw_from_quaternion, DatasetError};
 pub use types::{Dataset, Episode, Goal};

@@ -140,6 +140,9 @@ impl NavGrid {
 
         let mut ground = vec![f32::NAN; n];
         let mut occupied = vec![false; n];
+        // Lowest surface above the agent's head per cell, and whether it faces up (then the
+        // cell is inside a closed solid: a shelf, a wall's core).
+        let mut roof = vec![(f32::INFINITY, false); n];
         let mut segs = Vec::new();
         for t in scene.triangles() {
             let t = t.map(|p| p.map(|v| v as f64));
@@ -148,11 +151,16 @@ impl NavGrid {
             let Some(nz) = raster::abs_normal_z(&t) else { continue };
             let walkable = nz >= cos_slope && zhi >= ground_lo && zlo <= ground_hi;
             let in_band = zhi > band_lo && zlo < band_hi;
-            if !walkable && !in_band {
+            let above = zhi >= band_hi;
+            if !walkable && !in_band && !above {
                 continue;
             }
+            let faces_up = raster::normal_z_sign(&t) > 0.0;
             raster::for_each_cell(&spec, &t, |c, r, lo, hi| {
                 let i = r * w + c;
+                if lo >= band_hi && (lo as f32) < roof[i].0 {
+                    roof[i] = (lo as f32, faces_up);
+                }
                 if walkable && hi >= ground_lo && lo <= ground_hi {
                     let g = hi.min(ground_hi) as f32;
                     if ground[i].is_nan() || g > ground[i] {
@@ -170,6 +178,7 @@ impl NavGrid {
         if ground.iter().all(|g| g.is_nan()) {
             return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
         }
+        fill_enclosed(&mut occupied, &ground, &roof, &spec);
         clearance::dedup_segments(&mut segs);
         let cap = params.radius + 4.0 * res;
         let (mut clear, mut nearest) = clearance::segment_distance(&spec, &segs, cap);
@@ -338,10 +347,8 @@ impl NavGrid {
     }
 
     /// The map of this floor in map_server terms: occupied where geometry stands in the body
-    /// band, free where there is walkable floor, unknown elsewhere.
-    ///
-    /// Free pockets smaller than `min_pocket_area` (m^2; the insides of thick walls) count as occupied.
-    pub fn occupancy_grid(&self, min_pocket_area: f64) -> OccupancyGrid {
+    /// band (or inside a closed solid), free where there is walkable floor, unknown elsewhere.
+    pub fn occupancy_grid(&self) -> OccupancyGrid {
         let (w, h) = (self.spec.w, self.spec.h);
         let mut g = OccupancyGrid::new(w, h, self.spec.res, Pose2::new(self.spec.x0, self.spec.y0, 0.0), GRID_UNKNOWN);
         for i in 0..w * h {
@@ -352,14 +359,6 @@ impl NavGrid {
             } else {
                 GRID_UNKNOWN
             };
-        }
-        let min_cells = (min_pocket_area / (self.spec.res * self.spec.res)).ceil() as usize;
-        let free: Vec<bool> = g.data.iter().map(|&v| v == GRID_FREE).collect();
-        let (labels, sizes) = components(&free, w, h);
-        for i in 0..w * h {
-            if labels[i] != u32::MAX && sizes[labels[i] as usize] < min_cells {
-                g.data[i] = GRID_OCCUPIED;
-            }
         }
         g
     }
@@ -442,6 +441,39 @@ impl NavGrid {
             }
         }
         self.anchor = anchor;
+    }
+}
+
+/// Free floor pockets smaller than this are the insides of walls (m^2).
+const MIN_POCKET_AREA: f64 = 0.25;
+/// Free floor pockets smaller than this, mostly under upward-facing surfaces, are the insides
+/// of closed solids such as shelves (m^2). Larger regions are never filled, so that a
+/// ceiling with inverted normals cannot swallow a room.
+const MAX_SOLID_AREA: f64 = 4.0;
+
+/// Marks as occupied the free floor inside closed solids: pockets too small to be rooms, and
+/// small regions roofed by upward-facing surfaces (seen from below, the inside of a box).
+fn fill_enclosed(occupied: &mut [bool], ground: &[f32], roof: &[(f32, bool)], spec: &GridSpec) {
+    let (w, h) = (spec.w, spec.h);
+    let free: Vec<bool> = (0..w * h).map(|i| ground[i].is_finite() && !occupied[i]).collect();
+    let (labels, sizes) = components(&free, w, h);
+    let mut roofed = vec![0usize; sizes.len()];
+    for i in 0..w * h {
+        if labels[i] != u32::MAX && roof[i].1 {
+            roofed[labels[i] as usize] += 1;
+        }
+    }
+    let a = spec.res * spec.res;
+    for i in 0..w * h {
+        let k = labels[i];
+        if k == u32::MAX {
+            continue;
+        }
+        let (n, up) = (sizes[k as usize], roofed[k as usize]);
+        let area = n as f64 * a;
+        if area < MIN_POCKET_AREA || (area < MAX_SOLID_AREA && 2 * up > n) {
+            occupied[i] = true;
+        }
     }
 }
 

@@ -122,6 +122,19 @@ pub(crate) fn abs_normal_z(t: &[[f64; 3]; 3]) -> Option<f64> {
     Some((n[2] / len).abs())
 }
 
+/// Sign of the triangle's normal's z component (+1 facing up, -1 facing down, 0 vertical),
+/// for counter-clockwise winding seen from outside.
+pub(crate) fn normal_z_sign(t: &[[f64; 3]; 3]) -> f64 {
+    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1]];
+    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1]];
+    let nz = u[0] * v[1] - u[1] * v[0];
+    if nz.abs() < 1e-12 {
+        0.0
+    } else {
+        nz.signum()
+    }
+}
+
 /// Area of a triangle (m^2) and of its projection on the ground plane (m^2).
 pub(crate) fn areas(t: &[[f64; 3]; 3]) -> (f64, f64) {
     let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];

@@ -54,3 +54,13 @@ mod load;
 mod obj;
 mod ply;
 pub mod procedural;
+
+mod from_gltf;
+mod from_obj;
+mod from_ply;
+pub mod house;
+mod loader;
+mod to_glb;
+
+pub use loader::load;
+pub use to_glb::{to_glb_bytes, write_glb};

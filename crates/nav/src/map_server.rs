@@ -1,0 +1,363 @@
+//! ROS map_server maps (YAML + image), read and written exactly as map_server and map_saver
+//! (noetic) do.
+
+use serde::{Deserialize, Deserializer, Serialize};
+use std::path::{Path, PathBuf};
+use xhab_types::{OccupancyGrid, Pose2, GRID_UNKNOWN};
+
+/// How image values become occupancy (map_server's `mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MapMode {
+    /// Occupied, free or unknown (default).
+    #[default]
+    Trinary,
+    /// Occupied, free, or a cost in between.
+    Scale,
+    /// The image value itself.
+    Raw,
+}
+
+/// The map's YAML, with map_server's keys and defaults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapMetadata {
+    /// Image file, relative to the YAML's folder unless absolute.
+    pub image: PathBuf,
+    /// Cell size (m).
+    pub resolution: f64,
+    /// Pose of the lower-left pixel: [x (m), y (m), yaw (rad)].
+    pub origin: [f64; 3],
+    /// Invert black and white (0/1 or false/true).
+    #[serde(default, deserialize_with = "bool_or_int")]
+    pub negate: bool,
+    /// Occupancy above which a cell is occupied (default 0.65).
+    #[serde(default = "default_occ")]
+    pub occupied_thresh: f64,
+    /// Occupancy below which a cell is free (default 0.196).
+    #[serde(default = "default_free")]
+    pub free_thresh: f64,
+    /// Interpretation of values (default trinary).
+    #[serde(default)]
+    pub mode: MapMode,
+}
+
+fn default_occ() -> f64 {
+    0.65
+}
+fn default_free() -> f64 {
+    0.196
+}
+
+fn bool_or_int<'de, D: Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum B {
+        B(bool),
+        I(i64),
+    }
+    match B::deserialize(d)? {
+        B::B(b) => Ok(b),
+        B::I(0) => Ok(false),
+        B::I(1) => Ok(true),
+        B::I(v) => Err(serde::de::Error::custom(format!("expected 0 or 1, got {v}"))),
+    }
+}
+
+/// Why a map could not be read or written; names the file and the field.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MapError {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A YAML key is missing or has a bad value.
+    #[error("{path}: {field}: {reason}")]
+    Yaml {
+        /// The YAML file.
+        path: PathBuf,
+        /// The key.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The image is unreadable, truncated or of an unsupported kind.
+    #[error("{path}: {reason}")]
+    Image {
+        /// The image file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// Reads a map_server map: the YAML at `yaml_path` and the image it names.
+pub fn load_map(yaml_path: &Path) -> Result<(OccupancyGrid, MapMetadata), MapError> {
+    let text = std::fs::read_to_string(yaml_path).map_err(|source| MapError::Io { path: yaml_path.to_path_buf(), source })?;
+    let de = serde_yaml::Deserializer::from_str(&text);
+    let meta: MapMetadata = serde_path_to_error::deserialize(de).map_err(|e| MapError::Yaml {
+        path: yaml_path.to_path_buf(),
+        field: if e.path().to_string() == "." { "(top)".into() } else { e.path().to_string() },
+        reason: e.inner().to_string(),
+    })?;
+    let bad = |field: &str, reason: String| MapError::Yaml { path: yaml_path.to_path_buf(), field: field.into(), reason };
+    if !(meta.resolution.is_finite() && meta.resolution > 0.0) {
+        return Err(bad("resolution", format!("must be a positive number, got {}", meta.resolution)));
+    }
+    if meta.origin.iter().any(|v| !v.is_finite()) {
+        return Err(bad("origin", "must be three finite numbers".into()));
+    }
+    if !(0.0..=1.0).contains(&meta.occupied_thresh) || !(0.0..=1.0).contains(&meta.free_thresh) || meta.free_thresh >= meta.occupied_thresh {
+        return Err(bad("free_thresh", format!("thresholds must satisfy 0 <= free_thresh ({}) < occupied_thresh ({}) <= 1", meta.free_thresh, meta.occupied_thresh)));
+    }
+    let image = if meta.image.is_absolute() { meta.image.clone() } else { yaml_path.parent().unwrap_or(Path::new(".")).join(&meta.image) };
+    let img = read_image(&image)?;
+    let grid = to_grid(&img, &meta);
+    Ok((grid, meta))
+}
+
+/// A decoded image: rows top first, `channels` bytes per pixel (alpha last when present).
+struct Pixels {
+    w: usize,
+    h: usize,
+    channels: usize,
+    has_alpha: bool,
+    data: Vec<u8>,
+}
+
+fn read_image(path: &Path) -> Result<Pixels, MapError> {
+    let bytes = std::fs::read(path).map_err(|source| MapError::Io { path: path.to_path_buf(), source })?;
+    if bytes.starts_with(b"P5") || bytes.starts_with(b"P2") {
+        return read_pgm(&bytes).map_err(|reason| MapError::Image { path: path.to_path_buf(), reason });
+    }
+    let img = image::load_from_memory(&bytes).map_err(|e| MapError::Image { path: path.to_path_buf(), reason: format!("cannot decode the image: {e}") })?;
+    let has_alpha = img.color().has_alpha();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let (channels, data) = if has_alpha { (4, img.to_rgba8().into_raw()) } else { (3, img.to_rgb8().into_raw()) };
+    Ok(Pixels { w, h, channels, has_alpha, data })
+}
+
+/// Binary (P5, 8 or 16 bit) and ASCII (P2) PGM.
+fn read_pgm(b: &[u8]) -> Result<Pixels, String> {
+    let mut pos = 2;
+    let mut header = Vec::new();
+    while header.len() < 3 {
+        while pos < b.len() && b[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        if pos < b.len() && b[pos] == b'#' {
+            while pos < b.len() && b[pos] != b'\n' {
+                pos += 1;
+            }
+            continue;
+        }
+        let start = pos;
+        while pos < b.len() && b[pos].is_ascii_digit() {
+            pos += 1;
+        }
+        if start == pos {
+            return Err("broken PGM header: expected width, height and maxval".into());
+        }
+        let v: usize = std::str::from_utf8(&b[start..pos]).ok().and_then(|s| s.parse().ok()).ok_or("broken PGM header number")?;
+        header.push(v);
+    }
+    let (w, h, maxval) = (header[0], header[1], header[2]);
+    if w == 0 || h == 0 || maxval == 0 || maxval > 65535 || w.saturating_mul(h) > 400_000_000 {
+        return Err(format!("bad PGM size or maxval: {w} x {h}, maxval {maxval}"));
+    }
+    let scale = |v: usize| ((v * 255 + maxval / 2) / maxval).min(255) as u8;
+    let mut data = Vec::with_capacity(w * h);
+    if b.starts_with(b"P5") {
+        pos += 1; // the single whitespace after maxval
+        let bps = if maxval > 255 { 2 } else { 1 };
+        let need = w * h * bps;
+        if b.len() < pos + need {
+            return Err(format!("truncated PGM: {} bytes of pixel data, {need} expected for {w} x {h}", b.len().saturating_sub(pos)));
+        }
+        for i in 0..w * h {
+            let v = if bps == 2 { (b[pos + 2 * i] as usize) << 8 | b[pos + 2 * i + 1] as usize } else { b[pos + i] as usize };
+            data.push(if maxval == 255 { v as u8 } else { scale(v) });
+        }
+    } else {
+        let text = std::str::from_utf8(&b[pos..]).map_err(|_| "ASCII PGM with non-text pixel data")?;
+        for tok in text.split_ascii_whitespace() {
+            if data.len() == w * h {
+                break;
+            }
+            let v: usize = tok.parse().map_err(|_| format!("bad ASCII PGM value '{tok}'"))?;
+            data.push(if maxval == 255 { v.min(255) as u8 } else { scale(v.min(maxval)) });
+        }
+        if data.len() < w * h {
+            return Err(format!("truncated PGM: {} of {} values", data.len(), w * h));
+        }
+    }
+    Ok(Pixels { w, h, channels: 1, has_alpha: false, data })
+}
+
+/// map_server's conversion (image_loader.cpp): image row j is grid row h-1-j.
+fn to_grid(img: &Pixels, m: &MapMetadata) -> OccupancyGrid {
+    let origin = Pose2::new(m.origin[0], m.origin[1], m.origin[2]);
+    let mut g = OccupancyGrid::new(img.w, img.h, m.resolution, origin, GRID_UNKNOWN);
+    let avg_channels = if img.has_alpha && m.mode != MapMode::Raw { img.channels - 1 } else { img.channels };
+    for j in 0..img.h {
+        for i in 0..img.w {
+            let p = &img.data[(j * img.w + i) * img.channels..(j * img.w + i + 1) * img.channels];
+            let sum: f64 = p[..avg_channels].iter().map(|&v| v as f64).sum();
+            let mut avg = sum / avg_channels as f64;
+            let alpha = if img.has_alpha { p[img.channels - 1] as f64 } else { 255.0 };
+            let value: i8 = if m.mode == MapMode::Raw {
+                avg as i64 as i8
+            } else {
+                if m.negate {
+                    avg = 255.0 - avg;
+                }
+                let occ = (255.0 - avg) / 255.0;
+                if occ > m.occupied_thresh {
+                    100
+                } else if occ < m.free_thresh {
+                    0
+                } else if m.mode == MapMode::Trinary || alpha < 1.0 {
+                    -1
+                } else {
+                    let ratio = (occ - m.free_thresh) / (m.occupied_thresh - m.free_thresh);
+                    (1.0 + 98.0 * ratio) as i8
+                }
+            };
+            g.set(i, img.h - 1 - j, value);
+        }
+    }
+    g
+}
+
+/// Writes `grid` as map_saver does: `NAME.pgm` (P5: 254 free, 0 occupied, 205 unknown; top
+/// row first) beside `yaml_path`, and the YAML naming it.
+pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), MapError> {
+    let pgm_path = yaml_path.with_extension("pgm");
+    let name = pgm_path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let mut out = format!("P5\n# CREATOR: xhab {:.3} m/pix\n{} {}\n255\n", grid.resolution, grid.width, grid.height).into_bytes();
+    for row in (0..grid.height).rev() {
+        for col in 0..grid.width {
+            let v = grid.get(col, row);
+            out.push(if (0..=25).contains(&v) {
+                254
+            } else if v >= 65 {
+                0
+            } else {
+                205
+            });
+        }
+    }
+    std::fs::write(&pgm_path, out).map_err(|source| MapError::Io { path: pgm_path.clone(), source })?;
+    let yaml = format!(
+        "image: {name}\nresolution: {}\norigin: [{}, {}, {}]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
+        grid.resolution, grid.origin.x, grid.origin.y, grid.origin.yaw
+    );
+    std::fs::write(yaml_path, yaml).map_err(|source| MapError::Io { path: yaml_path.to_path_buf(), source })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!("xhab-map-{}-{:?}", std::process::id(), std::thread::current().id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn write(d: &Path, name: &str, yaml_extra: &str, pgm: &[u8]) -> PathBuf {
+        std::fs::write(d.join(format!("{name}.pgm")), pgm).unwrap();
+        let y = d.join(format!("{name}.yaml"));
+        std::fs::write(&y, format!("image: {name}.pgm\nresolution: 0.1\norigin: [1.0, 2.0, 0.0]\n{yaml_extra}")).unwrap();
+        y
+    }
+
+    #[test]
+    fn trinary_scale_raw_negate_and_row_flip() {
+        let d = dir();
+        // 3 x 2: top row 0 (black), 255 (white), 205 (grey); bottom row 100, 240, 10.
+        let mut pgm = b"P5\n# c\n3 2\n255\n".to_vec();
+        pgm.extend_from_slice(&[0, 255, 205, 100, 240, 10]);
+        let y = write(&d, "t", "", &pgm);
+        let (g, _) = load_map(&y).unwrap();
+        // Bottom grid row is the image's bottom row.
+        assert_eq!(g.data, vec![-1, 0, 100, 100, 0, -1]);
+        let y = write(&d, "n", "negate: 1\n", &pgm);
+        let (g, _) = load_map(&y).unwrap();
+        // negate: occ = v/255: 100 -> 0.39 unknown, 240 -> occupied, 10 -> free; 0 -> free, 255 -> occupied, 205 -> occupied.
+        assert_eq!(g.data, vec![-1, 100, 0, 0, 100, 100]);
+        let y = write(&d, "s", "mode: scale\n", &pgm);
+        let (g, _) = load_map(&y).unwrap();
+        // 100: occ = 0.6078 -> 1 + 98 * (0.6078 - 0.196) / (0.65 - 0.196) = 89.9 -> 89.
+        assert_eq!(g.get(0, 0), 89);
+        let y = write(&d, "r", "mode: raw\n", &pgm);
+        let (g, _) = load_map(&y).unwrap();
+        assert_eq!(g.get(0, 1), 0);
+        assert_eq!(g.get(1, 0), 240u8 as i8);
+    }
+
+    #[test]
+    fn ascii_equals_binary_and_round_trip() {
+        let d = dir();
+        let mut p5 = b"P5\n3 2\n255\n".to_vec();
+        p5.extend_from_slice(&[0, 255, 205, 100, 240, 10]);
+        let p2 = b"P2\n3 2\n255\n0 255 205\n100 240 10\n".to_vec();
+        let (a, _) = load_map(&write(&d, "a", "", &p5)).unwrap();
+        let (b, _) = load_map(&write(&d, "b", "", &p2)).unwrap();
+        assert_eq!(a, b);
+        let mut g = OccupancyGrid::new(7, 5, 0.05, Pose2::new(-1.5, 2.25, 0.0), -1);
+        for (i, v) in g.data.iter_mut().enumerate() {
+            *v = [0, 100, -1][(i * 7 + i / 3) % 3];
+        }
+        let y = d.join("rt.yaml");
+        save_map(&g, &y).unwrap();
+        let (back, meta) = load_map(&y).unwrap();
+        assert_eq!(back, g);
+        assert_eq!(meta.image, PathBuf::from("rt.pgm"));
+    }
+
+    #[test]
+    fn bad_files_name_the_problem() {
+        let d = dir();
+        let mut pgm = b"P5\n3 2\n255\n".to_vec();
+        pgm.extend_from_slice(&[0, 255]);
+        let e = load_map(&write(&d, "trunc", "", &pgm)).unwrap_err().to_string();
+        assert!(e.contains("trunc.pgm") && e.contains("truncated"), "{e}");
+        let y = d.join("typo.yaml");
+        std::fs::write(&y, "image: x.pgm\nresolution: abc\norigin: [0, 0, 0]\n").unwrap();
+        let e = load_map(&y).unwrap_err().to_string();
+        assert!(e.contains("typo.yaml") && e.contains("resolution"), "{e}");
+        std::fs::write(&y, "image: missing.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n").unwrap();
+        assert!(load_map(&y).unwrap_err().to_string().contains("missing.pgm"));
+    }
+
+    #[test]
+    fn shared_maps_load() {
+        let dir = std::env::var_os("XHAB_DATA")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared")))
+            .join("maps");
+        if !dir.is_dir() {
+            assert!(std::env::var("XHAB_REQUIRE_DATA").as_deref() != Ok("1"), "shared maps missing at {}", dir.display());
+            eprintln!("SKIPPED shared_maps_load: no shared data at {}", dir.display());
+            return;
+        }
+        let mut n = 0;
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "yaml") {
+                let (g, _) = load_map(&p).unwrap_or_else(|e| panic!("{e}"));
+                let occ = g.data.iter().filter(|&&v| v == 100).count();
+                let free = g.data.iter().filter(|&&v| v == 0).count();
+                eprintln!("{}: {}x{} free {free} occupied {occ}", p.display(), g.width, g.height);
+                assert!(occ > 0 && free > 0);
+                n += 1;
+            }
+        }
+        assert!(n >= 9, "{n} maps");
+    }
+}

@@ -1,0 +1,101 @@
+//! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame.
+
+use super::{Mesh, Scene, SceneError, UpAxis};
+use std::path::Path;
+
+type Mat4 = [[f64; 4]; 4];
+
+const IDENTITY: Mat4 = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+
+/// Column-major product `a * b` (glTF matrices are column-major: `m[col][row]`).
+fn mul(a: &Mat4, b: &Mat4) -> Mat4 {
+    let mut r = [[0.0; 4]; 4];
+    for c in 0..4 {
+        for row in 0..4 {
+            r[c][row] = (0..4).map(|k| a[k][row] * b[c][k]).sum();
+        }
+    }
+    r
+}
+
+fn det3(m: &Mat4) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) - m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2])
+        + m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2])
+}
+
+/// Loads a .gltf (with its external buffers) or .glb file.
+pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+    let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| malformed(format!("not a valid glTF/GLB file: {e}")))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
+        .map_err(|e| malformed(format!("cannot read the buffers: {e}")))?;
+    let doc = gltf.document;
+    let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| malformed("the file has no scene".into()))?;
+    let mut out = Scene::default();
+    let mut stack: Vec<(gltf::Node, Mat4, usize)> = scene.nodes().map(|n| (n, IDENTITY, 0)).collect();
+    stack.reverse();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > 256 {
+            return Err(malformed("the node hierarchy is deeper than 256 levels (a cycle?)".into()));
+        }
+        let local = node.transform().matrix().map(|c| c.map(|v| v as f64));
+        let m = mul(&parent, &local);
+        if let Some(mesh) = node.mesh() {
+            let name = node.name().filter(|s| !s.is_empty()).or(mesh.name()).unwrap_or("").to_string();
+            for (pi, prim) in mesh.primitives().enumerate() {
+                if let Some(me) = primitive(path, &buffers, &prim, &m, &name, pi)? {
+                    out.meshes.push(me);
+                }
+            }
+        }
+        let children: Vec<_> = node.children().collect();
+        for c in children.into_iter().rev() {
+            stack.push((c, m, depth + 1));
+        }
+    }
+    Ok(out)
+}
+
+fn primitive(
+    path: &Path,
+    buffers: &[gltf::buffer::Data],
+    prim: &gltf::Primitive,
+    m: &Mat4,
+    name: &str,
+    pi: usize,
+) -> Result<Option<Mesh>, SceneError> {
+    let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
+    let mode = prim.mode();
+    if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
+        tracing::warn!("{}: mesh '{name}' primitive {pi}: {mode:?} skipped (not triangles)", path.display());
+        return Ok(None);
+    }
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let Some(pos) = reader.read_positions() else {
+        return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
+    };
+    let flip = det3(m) < 0.0;
+    let positions: Vec<[f32; 3]> = pos
+        .map(|p| {
+            let p = p.map(|v| v as f64);
+            let v: [f64; 3] = std::array::from_fn(|r| m[0][r] * p[0] + m[1][r] * p[1] + m[2][r] * p[2] + m[3][r]);
+            UpAxis::Y.to_world([v[0] as f32, v[1] as f32, v[2] as f32])
+        })
+        .collect();
+    let idx: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let tris: Vec<[u32; 3]> = match mode {
+        gltf::mesh::Mode::TriangleStrip => (2..idx.len())
+            .map(|i| if i % 2 == 0 { [idx[i - 2], idx[i - 1], idx[i]] } else { [idx[i - 1], idx[i - 2], idx[i]] })
+            .collect(),
+        gltf::mesh::Mode::TriangleFan => (2..idx.len()).map(|i| [idx[0], idx[i - 1], idx[i]]).collect(),
+        _ => idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+    };
+    let indices = tris.into_iter().map(|[a, b, c]| if flip { [a, c, b] } else { [a, b, c] }).collect();
+    let base_color = prim.material().pbr_metallic_roughness().base_color_factor();
+    Ok(Some(Mesh { name: name.to_string(), positions, indices, base_color }))
+}

@@ -1,0 +1,224 @@
+//! Command-line arguments (clap derive). Parsing only: the commands live in `cmd/`.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// xhab: Habitat-style PointNav benchmarks, maps from 3D scenes, and ROS interop, without Habitat.
+///
+/// SCENE is a scene file (.glb, .gltf, .obj, .ply) or `procedural[:SEED]` for the built-in
+/// procedural house (seed 0 by default).
+///
+/// Exit codes: 0 success, 1 ran but a check failed, 2 error.
+#[derive(Debug, Parser)]
+#[command(name = "xhab", version, about, long_about = None)]
+pub struct Cli {
+    /// Print less (no progress bars).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Generate the procedural house, its map and episodes, run the oracle, print the metrics.
+    Demo(DemoArgs),
+    /// Write a ROS map_server map (NAME.yaml + NAME.pgm) and a picture (NAME.png) of a scene.
+    Map(MapArgs),
+    /// Generate PointNav episodes with Habitat's rules (gzipped Habitat JSON).
+    Episodes(EpisodesArgs),
+    /// Print the geodesic distance between two points (Habitat frame, metres).
+    Geodesic(GeodesicArgs),
+    /// Run an agent on every episode of a dataset and write the metrics as JSON.
+    Bench(BenchArgs),
+    /// Measure speed on a scene and print the figures (JSON with --json).
+    Perf(PerfArgs),
+    /// Scene tools.
+    #[command(subcommand)]
+    Scene(SceneCommand),
+}
+
+/// How to read a scene.
+#[derive(Debug, Clone, Args)]
+pub struct SceneOpts {
+    /// Up axis of OBJ/PLY files (glTF is always y up).
+    #[arg(long, value_enum, default_value_t = UpAxisArg::Y, help_heading = "Scene")]
+    pub up_axis: UpAxisArg,
+    /// Keep meshes named "ceiling" (dropped by default).
+    #[arg(long, help_heading = "Scene")]
+    pub keep_ceilings: bool,
+    /// Agent radius (m).
+    #[arg(long, default_value_t = 0.1, help_heading = "Agent")]
+    pub agent_radius: f64,
+    /// Agent height (m).
+    #[arg(long, default_value_t = 1.5, help_heading = "Agent")]
+    pub agent_height: f64,
+    /// Cell size of the navigation grid (m).
+    #[arg(long, default_value_t = 0.05, help_heading = "Agent")]
+    pub cell_size: f64,
+}
+
+/// Up axis values.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum UpAxisArg {
+    /// y up.
+    Y,
+    /// z up.
+    Z,
+}
+
+/// `xhab demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Seed of the house and of the episodes.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Number of episodes.
+    #[arg(long, default_value_t = 50)]
+    pub episodes: usize,
+    /// Folder for the map, episodes, results and pictures.
+    #[arg(long, default_value = "xhab-out/demo")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// `xhab map`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    /// The scene.
+    pub scene: String,
+    /// Output path without extension: writes OUT.yaml, OUT.pgm and OUT.png.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Map resolution (m per cell).
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+    /// Floor: `auto` (the lowest) or a height in metres (Habitat's y, i.e. up).
+    #[arg(long, default_value = "auto")]
+    pub floor: String,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// `xhab episodes`.
+#[derive(Debug, Args)]
+pub struct EpisodesArgs {
+    /// The scene.
+    pub scene: String,
+    /// Number of episodes.
+    #[arg(long, default_value_t = 30)]
+    pub count: usize,
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Output file (.json.gz or .json).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Floor: `auto` (the lowest) or a height in metres (Habitat's y).
+    #[arg(long, default_value = "auto")]
+    pub floor: String,
+    /// scene_id written into the episodes (default: the SCENE argument).
+    #[arg(long)]
+    pub scene_id: Option<String>,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// `xhab geodesic`.
+#[derive(Debug, Args)]
+pub struct GeodesicArgs {
+    /// The scene.
+    pub scene: String,
+    /// Start X,Y,Z (Habitat frame, m).
+    #[arg(long, allow_hyphen_values = true)]
+    pub from: String,
+    /// Goal X,Y,Z (Habitat frame, m).
+    #[arg(long, allow_hyphen_values = true)]
+    pub to: String,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// Agents for `bench`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum AgentArg {
+    /// Greedy shortest-path follower over discrete actions.
+    Oracle,
+}
+
+/// `xhab bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The scene.
+    #[arg(long)]
+    pub scene: String,
+    /// Episodes file (Habitat PointNav .json.gz).
+    #[arg(long)]
+    pub episodes: PathBuf,
+    /// The agent.
+    #[arg(long, value_enum, default_value_t = AgentArg::Oracle)]
+    pub agent: AgentArg,
+    /// JSON results file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// CSV of per-episode results.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Folder for top-down pictures of each episode's trajectory.
+    #[arg(long)]
+    pub trajectories: Option<PathBuf>,
+    /// Worker threads (results do not depend on it).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Success radius (m).
+    #[arg(long, default_value_t = 0.2)]
+    pub success_distance: f64,
+    /// Action limit per episode.
+    #[arg(long, default_value_t = 500)]
+    pub max_steps: u32,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// `xhab perf`.
+#[derive(Debug, Args)]
+pub struct PerfArgs {
+    /// The scene.
+    pub scene: String,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Seconds to spend on each timed figure (approximate).
+    #[arg(long, default_value_t = 1.0)]
+    pub seconds: f64,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// `xhab scene ...`.
+#[derive(Debug, Subcommand)]
+pub enum SceneCommand {
+    /// Write the procedural house as GLB.
+    Generate {
+        /// Seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Output .glb file.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Print facts about a scene: triangles, bounds, floors, navigable area, islands.
+    Info {
+        /// The scene.
+        scene: String,
+        #[command(flatten)]
+        scene_opts: SceneOpts,
+    },
+}

@@ -1,0 +1,121 @@
+//! `xhab bench`: an agent on every episode of a dataset; metrics as JSON, CSV and a table.
+
+use crate::cli::{AgentArg, BenchArgs};
+use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
+use crate::report::MapPicture;
+use crate::scene_arg::load_world;
+use anyhow::{Context, Result};
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+use xhab_bridge::agents::AgentKind;
+use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, RunConfig};
+use xhab_sim::env::TaskConfig;
+use xhab_sim::episode::{read_dataset, Dataset};
+use xhab_sim::world::World;
+use xhab_types::Point2;
+
+pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
+    let world = load_world(&a.scene, &a.scene_opts)?;
+    let ds = read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
+    let agent = match a.agent {
+        AgentArg::Oracle => AgentKind::Oracle,
+    };
+    let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
+    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some() };
+    let (report, outcomes) = bench(&world, &ds, &cfg, &a.scene, &a.episodes.display().to_string(), quiet)?;
+    if let Some(dir) = &a.trajectories {
+        draw_trajectories(&world, &ds, &outcomes, dir)?;
+    }
+    if let Some(out) = &a.out {
+        super::ensure_parent(out)?;
+        let json = serde_json::to_string_pretty(&report)?;
+        std::fs::write(out, json + "\n").with_context(|| format!("writing {}", out.display()))?;
+    }
+    if let Some(csv) = &a.csv {
+        super::ensure_parent(csv)?;
+        std::fs::write(csv, episodes_csv(&report.episodes)).with_context(|| format!("writing {}", csv.display()))?;
+    }
+    print_table(&report.aggregate, report.invalid.count, agent.name());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Runs the benchmark and builds its report (warnings for invalid episodes on stderr).
+pub fn bench(
+    world: &World,
+    ds: &Dataset,
+    cfg: &RunConfig,
+    scene: &str,
+    episodes_file: &str,
+    quiet: bool,
+) -> Result<(BenchReport, Vec<Outcome>)> {
+    let pb = super::progress(ds.episodes.len(), quiet, cfg.agent.name());
+    let t0 = Instant::now();
+    let outcomes = run_dataset(world, ds, cfg, &|| pb.inc(1));
+    let wall = t0.elapsed().as_secs_f64();
+    pb.finish_and_clear();
+    let mut runs: Vec<&EpisodeRun> = Vec::new();
+    let mut invalid = Vec::new();
+    for o in &outcomes {
+        match o {
+            Outcome::Ran(r) => runs.push(r),
+            Outcome::Invalid(i) => {
+                eprintln!("xhab: warning: episode {} is invalid and left out: {}", i.episode_id, i.reason);
+                invalid.push(i.clone());
+            }
+        }
+    }
+    let agg = aggregate(&runs, wall);
+    let report = BenchReport {
+        schema_version: SCHEMA_VERSION,
+        scene: scene.to_string(),
+        episodes_file: episodes_file.to_string(),
+        agent: cfg.agent.name().to_string(),
+        threads: cfg.threads,
+        task: cfg.task.clone(),
+        aggregate: agg,
+        invalid: InvalidReport {
+            count: invalid.len(),
+            episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(),
+            reasons: invalid,
+        },
+        episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
+    };
+    Ok((report, outcomes))
+}
+
+/// Prints the summary table on stdout.
+pub fn print_table(a: &Aggregate, invalid: usize, agent: &str) {
+    println!("{:<8} {:>8} {:>8} {:>8} {:>8} {:>10} {:>8} {:>10} {:>8} {:>12}", "agent", "episodes", "success", "spl", "soft_spl", "dtg_m", "steps", "collisions", "wall_s", "steps_per_s");
+    println!(
+        "{:<8} {:>8} {:>8.3} {:>8.3} {:>8.3} {:>10.3} {:>8.1} {:>10.1} {:>8.2} {:>12.0}",
+        agent, a.episodes, a.success, a.spl, a.soft_spl, a.distance_to_goal, a.steps, a.collisions, a.wall_s, a.steps_per_s
+    );
+    if invalid > 0 {
+        println!("({invalid} invalid episodes left out)");
+    }
+}
+
+/// Draws each episode's trajectory over the floor's map into `dir/EPISODE_ID.png`.
+pub fn draw_trajectories(world: &World, ds: &Dataset, outcomes: &[Outcome], dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    for (ep, o) in ds.episodes.iter().zip(outcomes) {
+        let Outcome::Ran(r) = o else { continue };
+        let Some(traj) = &r.trajectory else { continue };
+        let grid = world.grid_at(ep.start_position.z)?;
+        let map = grid.occupancy_grid();
+        let mut pic = MapPicture::new(&map);
+        let goals: Vec<Point2> = ep.goals.iter().map(|g| g.position.xy()).collect();
+        let field = xhab_sim::geodesic::GeodesicField::new(&grid, &goals);
+        pic.polyline(&field.path(&grid, ep.start_position.xy()), [60, 160, 255]);
+        let pts: Vec<Point2> = traj.iter().map(|p| p.position()).collect();
+        pic.polyline(&pts, [230, 120, 0]);
+        pic.dot(ep.start_position.xy(), 4, [0, 170, 0]);
+        for g in &goals {
+            pic.dot(*g, 4, [220, 0, 0]);
+        }
+        let name: String = r.episode_id.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+        pic.save(&dir.join(format!("{name}.png")))?;
+    }
+    Ok(())
+}

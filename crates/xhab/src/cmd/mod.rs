@@ -1,0 +1,50 @@
+//! One file per command.
+
+mod bench;
+mod demo;
+mod episodes;
+mod geodesic;
+mod map;
+mod perf;
+mod scene;
+
+use crate::cli::{Cli, Command};
+use anyhow::Result;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::process::ExitCode;
+
+/// Runs the parsed command.
+pub fn run(cli: &Cli) -> Result<ExitCode> {
+    match &cli.command {
+        Command::Demo(a) => demo::run(a, cli.quiet),
+        Command::Map(a) => map::run(a),
+        Command::Episodes(a) => episodes::run(a),
+        Command::Geodesic(a) => geodesic::run(a),
+        Command::Bench(a) => bench::run(a, cli.quiet),
+        Command::Perf(a) => perf::run(a),
+        Command::Scene(c) => scene::run(c),
+    }
+}
+
+/// A progress bar on stderr that hides itself off a terminal or when quiet.
+pub fn progress(len: usize, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(len as u64);
+    pb.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} {per_sec} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    pb.set_prefix(what.to_string());
+    pb
+}
+
+/// Creates the parent folder of `path`.
+pub fn ensure_parent(path: &std::path::Path) -> Result<()> {
+    if let Some(p) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(p).map_err(|e| anyhow::anyhow!("creating folder {}: {e}", p.display()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,139 @@
+//! `xhab perf`: speed figures of one scene, as JSON.
+//!
+//! Each figure times only the operation it names: map build (floor detection and the
+//! navigation grid), geodesic queries against a precomputed goal field (the per-step
+//! `distance_to_goal` of an episode), the field build itself (a cold point-to-point query),
+//! and discrete steps (motion with sliding plus the step's metric update) without rendering.
+
+use crate::cli::PerfArgs;
+use crate::scene_arg::{agent_params, load_scene};
+use anyhow::{Context, Result};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::process::ExitCode;
+use std::time::Instant;
+use xhab_sim::action::Action;
+use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
+use xhab_sim::episode::{Episode, Goal};
+use xhab_sim::geodesic::GeodesicField;
+use xhab_sim::oracle::ShortestPathFollower;
+use xhab_sim::world::World;
+
+pub fn run(a: &PerfArgs) -> Result<ExitCode> {
+    let scene = load_scene(&a.scene, &a.scene_opts)?;
+    let tris = scene.triangle_count();
+    let params = agent_params(&a.scene_opts);
+    // Map build: best of three (floor detection + grid).
+    let mut build_s = f64::INFINITY;
+    let mut world = None;
+    for _ in 0..3 {
+        let t = Instant::now();
+        let w = World::new(scene.clone(), params.clone());
+        let f = w.default_floor().context("no walkable floor")?;
+        w.grid(f)?;
+        build_s = build_s.min(t.elapsed().as_secs_f64());
+        world = Some(w);
+    }
+    let world = world.context("no world")?;
+    let grid = world.grid(world.default_floor().context("no floor")?)?;
+    let cells = grid.cells_on_islands(1.5);
+    let cells = if cells.is_empty() { grid.cells_on_islands(0.0) } else { cells };
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut sample = || grid.sample_navigable_point(&cells, &mut rng).context("no navigable point");
+
+    // Geodesic fields and queries.
+    let goals: Vec<_> = (0..8).map(|_| sample()).collect::<Result<_>>()?;
+    let queries: Vec<_> = (0..4096).map(|_| sample().map(|p| p.xy())).collect::<Result<_>>()?;
+    let mut field_s = 0.0;
+    let mut fields = Vec::new();
+    for g in &goals {
+        let t = Instant::now();
+        fields.push(GeodesicField::new(&grid, &[g.xy()]));
+        field_s += t.elapsed().as_secs_f64();
+    }
+    let field_s = field_s / goals.len() as f64;
+    let (mut nq, mut q_s, mut checksum) = (0u64, 0.0, 0.0);
+    while q_s < a.seconds * 0.5 {
+        let t = Instant::now();
+        for f in &fields {
+            for q in &queries {
+                let d = f.distance(&grid, *q);
+                if d.is_finite() {
+                    checksum += d;
+                }
+            }
+        }
+        q_s += t.elapsed().as_secs_f64();
+        nq += (fields.len() * queries.len()) as u64;
+    }
+
+    // Discrete steps: random actions (no stop) and the oracle, timing env.step only.
+    let episodes: Vec<Episode> = (0..16)
+        .map(|i| -> Result<Episode> {
+            let s = sample()?;
+            let g = goals[i % goals.len()];
+            Ok(Episode {
+                episode_id: i.to_string(),
+                scene_id: a.scene.clone(),
+                start_position: s,
+                start_yaw: 0.0,
+                goals: vec![Goal { position: g, radius: 0.2 }],
+                geodesic_distance: None,
+                info: serde_json::Value::Null,
+            })
+        })
+        .collect::<Result<_>>()?;
+    let mut act_rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut steps, mut step_s) = (0u64, 0.0);
+    let (mut osteps, mut ostep_s) = (0u64, 0.0);
+    while step_s + ostep_s < a.seconds {
+        for ep in &episodes {
+            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+            let actions: Vec<Action> = (0..500)
+                .map(|_| match act_rng.gen_range(0..4) {
+                    0 | 1 => Action::MoveForward,
+                    2 => Action::TurnLeft,
+                    _ => Action::TurnRight,
+                })
+                .collect();
+            let t = Instant::now();
+            for &act in &actions {
+                env.step(act);
+            }
+            checksum += env.distance_to_goal().min(1e3);
+            step_s += t.elapsed().as_secs_f64();
+            steps += actions.len() as u64;
+
+            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+            let mut oracle = ShortestPathFollower::new();
+            let t = Instant::now();
+            while !env.is_done() {
+                let act = oracle.act(&env);
+                env.step(act);
+                osteps += 1;
+            }
+            ostep_s += t.elapsed().as_secs_f64();
+        }
+    }
+    let j = serde_json::json!({
+        "scene": a.scene,
+        "triangles": tris,
+        "floor_height_m": grid.floor_z,
+        "navigable_area_m2": grid.navigable_cells() as f64 * grid.resolution().powi(2),
+        "cell_size_m": grid.resolution(),
+        "map_build_s": build_s,
+        "geodesic_queries_per_s": nq as f64 / q_s,
+        "geodesic_field_build_s": field_s,
+        "geodesic_pair_queries_per_s": 1.0 / field_s,
+        "discrete_steps_per_s": steps as f64 / step_s,
+        "oracle_steps_per_s": osteps as f64 / ostep_s,
+        "threads": 1,
+        "checksum": checksum,
+    });
+    if a.json {
+        println!("{j}");
+    } else {
+        println!("{}", serde_json::to_string_pretty(&j)?);
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,103 @@
+//! JSON documents the CLI writes. Field names are a contract: add fields, never rename.
+
+use serde::Serialize;
+use xhab_bridge::runner::{Aggregate, EpisodeRun, InvalidRun};
+use xhab_sim::env::TaskConfig;
+
+/// Version of the bench JSON layout.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// `xhab bench --out` document.
+#[derive(Debug, Serialize)]
+pub struct BenchReport {
+    /// Layout version.
+    pub schema_version: u32,
+    /// The SCENE argument.
+    pub scene: String,
+    /// The episodes file.
+    pub episodes_file: String,
+    /// The agent's name.
+    pub agent: String,
+    /// Worker threads.
+    pub threads: usize,
+    /// Task settings.
+    pub task: TaskConfig,
+    /// Means over valid episodes.
+    pub aggregate: Aggregate,
+    /// Episodes left out because their start or goal is not navigable for the agent.
+    pub invalid: InvalidReport,
+    /// One entry per valid episode, in file order.
+    pub episodes: Vec<EpisodeReport>,
+}
+
+/// Invalid episodes.
+#[derive(Debug, Serialize)]
+pub struct InvalidReport {
+    /// How many.
+    pub count: usize,
+    /// Their ids.
+    pub episode_ids: Vec<String>,
+    /// Why each one is invalid.
+    pub reasons: Vec<InvalidRun>,
+}
+
+/// Metrics of one episode.
+#[derive(Debug, Serialize)]
+pub struct EpisodeReport {
+    /// The episode's id.
+    pub episode_id: String,
+    /// 1 on success, else 0.
+    pub success: f64,
+    /// SPL.
+    pub spl: f64,
+    /// Soft SPL.
+    pub soft_spl: f64,
+    /// Final geodesic distance to the goal (m).
+    pub distance_to_goal: f64,
+    /// Actions taken.
+    pub steps: u32,
+    /// Blocked or deflected moves.
+    pub collisions: u32,
+    /// Wall time (s).
+    pub wall_s: f64,
+    /// Actions per second of wall time.
+    pub steps_per_s: f64,
+    /// Path length travelled (m).
+    pub path_length: f64,
+    /// Geodesic start-goal distance at reset (m).
+    pub start_distance: f64,
+    /// Whether the agent called stop.
+    pub called_stop: bool,
+}
+
+impl From<&EpisodeRun> for EpisodeReport {
+    fn from(r: &EpisodeRun) -> Self {
+        let m = &r.metrics;
+        EpisodeReport {
+            episode_id: r.episode_id.clone(),
+            success: m.success,
+            spl: m.spl,
+            soft_spl: m.soft_spl,
+            distance_to_goal: m.distance_to_goal,
+            steps: m.steps,
+            collisions: m.collisions,
+            wall_s: r.wall_s,
+            steps_per_s: if r.wall_s > 0.0 { m.steps as f64 / r.wall_s } else { 0.0 },
+            path_length: m.path_length,
+            start_distance: m.start_distance,
+            called_stop: m.called_stop,
+        }
+    }
+}
+
+/// CSV of per-episode results (header + one line per episode).
+pub fn episodes_csv(eps: &[EpisodeReport]) -> String {
+    let mut s = String::from("episode_id,success,spl,soft_spl,distance_to_goal,steps,collisions,path_length,start_distance,called_stop,wall_s\n");
+    for e in eps {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{}\n",
+            e.episode_id, e.success, e.spl, e.soft_spl, e.distance_to_goal, e.steps, e.collisions, e.path_length, e.start_distance, e.called_stop, e.wall_s
+        ));
+    }
+    s
+}

@@ -1,0 +1,104 @@
+//! Pictures: top-down maps with trajectories, as PNG.
+
+use anyhow::{Context, Result};
+use image::{Rgb, RgbImage};
+use std::path::Path;
+use xhab_types::{OccupancyGrid, Point2, GRID_FREE, GRID_UNKNOWN};
+
+/// A top-down picture of a map, at `scale` pixels per cell, north (+y) up.
+pub struct MapPicture<'a> {
+    grid: &'a OccupancyGrid,
+    scale: u32,
+    img: RgbImage,
+}
+
+impl<'a> MapPicture<'a> {
+    /// Draws the map: free white, occupied black, unknown grey; a 1 m scale bar bottom left.
+    pub fn new(grid: &'a OccupancyGrid) -> Self {
+        let scale = (900 / grid.width.max(grid.height).max(1)).clamp(1, 8) as u32;
+        let (w, h) = (grid.width as u32 * scale, grid.height as u32 * scale);
+        let mut img = RgbImage::new(w.max(1), h.max(1));
+        for row in 0..grid.height {
+            for col in 0..grid.width {
+                let v = grid.get(col, row);
+                let c = match v {
+                    GRID_UNKNOWN => Rgb([205, 205, 205]),
+                    GRID_FREE => Rgb([255, 255, 255]),
+                    v if v >= 65 => Rgb([20, 20, 20]),
+                    v => {
+                        let g = 255 - (v as u16 * 255 / 100) as u8;
+                        Rgb([g, g, g])
+                    }
+                };
+                let y0 = (grid.height - 1 - row) as u32 * scale;
+                for dy in 0..scale {
+                    for dx in 0..scale {
+                        img.put_pixel(col as u32 * scale + dx, y0 + dy, c);
+                    }
+                }
+            }
+        }
+        let mut p = MapPicture { grid, scale, img };
+        p.scale_bar();
+        p
+    }
+
+    fn to_px(&self, q: Point2) -> (f64, f64) {
+        let s = self.scale as f64 / self.grid.resolution;
+        let x = (q.x - self.grid.origin.x) * s;
+        let y = self.img.height() as f64 - (q.y - self.grid.origin.y) * s;
+        (x, y)
+    }
+
+    fn scale_bar(&mut self) {
+        let px = (self.scale as f64 / self.grid.resolution).round() as i64; // one metre
+        let y = self.img.height() as i64 - 8;
+        for x in 8..8 + px {
+            for t in 0..3 {
+                self.put(x, y - t, Rgb([200, 30, 30]));
+            }
+        }
+    }
+
+    fn put(&mut self, x: i64, y: i64, c: Rgb<u8>) {
+        if x >= 0 && y >= 0 && (x as u32) < self.img.width() && (y as u32) < self.img.height() {
+            self.img.put_pixel(x as u32, y as u32, c);
+        }
+    }
+
+    /// Draws a polyline (m, world frame) in colour `c`.
+    pub fn polyline(&mut self, pts: &[Point2], c: [u8; 3]) {
+        for w in pts.windows(2) {
+            let (x0, y0) = self.to_px(w[0]);
+            let (x1, y1) = self.to_px(w[1]);
+            let n = ((x1 - x0).abs().max((y1 - y0).abs()).ceil() as i64).max(1);
+            for k in 0..=n {
+                let t = k as f64 / n as f64;
+                let (x, y) = ((x0 + t * (x1 - x0)).round() as i64, (y0 + t * (y1 - y0)).round() as i64);
+                self.put(x, y, Rgb(c));
+                if self.scale >= 3 {
+                    self.put(x + 1, y, Rgb(c));
+                    self.put(x, y + 1, Rgb(c));
+                }
+            }
+        }
+    }
+
+    /// Draws a filled disc of radius `r_px` pixels at `q` (m).
+    pub fn dot(&mut self, q: Point2, r_px: i64, c: [u8; 3]) {
+        let (x, y) = self.to_px(q);
+        let (x, y) = (x.round() as i64, y.round() as i64);
+        for dy in -r_px..=r_px {
+            for dx in -r_px..=r_px {
+                if dx * dx + dy * dy <= r_px * r_px {
+                    self.put(x + dx, y + dy, Rgb(c));
+                }
+            }
+        }
+    }
+
+    /// Writes the picture as PNG.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        self.img.save(path).with_context(|| format!("writing {}", path.display()))
+    }
+}

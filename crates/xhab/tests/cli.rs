@@ -1,0 +1,149 @@
+//! The CLI end to end: files written, determinism, contracts of the JSON fields.
+
+use crate::common::{data_dir, xhab};
+use std::path::Path;
+
+fn run(args: &[&str]) -> std::process::Output {
+    let out = xhab().args(args).output().expect("xhab runs");
+    assert!(
+        out.status.success(),
+        "xhab {args:?} failed: {}\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    out
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("xhab-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The JSON with every timing field (`wall_s`, `steps_per_s`) removed.
+fn without_timings(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(m) => {
+            m.retain(|k, _| k != "wall_s" && k != "steps_per_s");
+            m.values_mut().for_each(without_timings);
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(without_timings),
+        _ => {}
+    }
+}
+
+fn read_json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn demo_runs_and_writes_its_files() {
+    let d = tmp("demo");
+    let out = run(&["demo", "--episodes", "6", "--out", d.to_str().unwrap(), "--quiet"]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("success") && table.contains("spl"), "{table}");
+    for f in ["house.yaml", "house.pgm", "house.png", "episodes.json.gz", "results.json", "trajectories.png"] {
+        assert!(d.join(f).is_file(), "missing {f}");
+    }
+    let r = read_json(&d.join("results.json"));
+    assert_eq!(r["aggregate"]["episodes"], 6);
+    assert!(r["aggregate"]["success"].as_f64().unwrap() >= 0.8, "{}", r["aggregate"]);
+}
+
+#[test]
+fn episodes_are_byte_identical_for_a_seed_and_bench_is_deterministic() {
+    let d = tmp("det");
+    let (a, b) = (d.join("a.json.gz"), d.join("b.json.gz"));
+    run(&["episodes", "procedural:3", "--count", "8", "--seed", "5", "--out", a.to_str().unwrap()]);
+    run(&["episodes", "procedural:3", "--count", "8", "--seed", "5", "--out", b.to_str().unwrap()]);
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    let c = d.join("c.json.gz");
+    run(&["episodes", "procedural:3", "--count", "8", "--seed", "6", "--out", c.to_str().unwrap()]);
+    assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap());
+
+    let (r1, r2) = (d.join("r1.json"), d.join("r2.json"));
+    run(&["bench", "--scene", "procedural:3", "--episodes", a.to_str().unwrap(), "--out", r1.to_str().unwrap(), "--quiet"]);
+    run(&["bench", "--scene", "procedural:3", "--episodes", a.to_str().unwrap(), "--out", r2.to_str().unwrap(), "--threads", "2", "--quiet"]);
+    let (mut j1, mut j2) = (read_json(&r1), read_json(&r2));
+    for k in ["aggregate", "invalid", "episodes"] {
+        assert!(j1.get(k).is_some(), "missing {k}");
+    }
+    for k in ["episodes", "success", "spl", "soft_spl", "distance_to_goal", "steps", "collisions", "wall_s", "steps_per_s"] {
+        assert!(j1["aggregate"].get(k).is_some(), "aggregate misses {k}");
+        assert!(j1["episodes"][0].get(k).is_some() || k == "episodes", "episode misses {k}");
+    }
+    assert!(j1["episodes"][0].get("episode_id").is_some());
+    without_timings(&mut j1);
+    without_timings(&mut j2);
+    j1.as_object_mut().unwrap().remove("threads");
+    j2.as_object_mut().unwrap().remove("threads");
+    assert_eq!(j1, j2, "bench results depend on the run or the thread count");
+}
+
+#[test]
+fn map_writes_map_server_files_that_read_back() {
+    let d = tmp("map");
+    let out = d.join("house");
+    run(&["map", "procedural:1", "--out", out.to_str().unwrap(), "--resolution", "0.05"]);
+    let (grid, meta) = xhab_nav::map_server::load_map(&d.join("house.yaml")).expect("map reads back");
+    assert!((meta.resolution - 0.05).abs() < 1e-12);
+    assert!(grid.data.iter().any(|&v| v == 100) && grid.data.iter().any(|&v| v == 0));
+    assert!(d.join("house.png").is_file() && d.join("house.pgm").is_file());
+}
+
+#[test]
+fn geodesic_prints_one_number_and_json() {
+    let d = tmp("geo");
+    let eps = d.join("e.json.gz");
+    run(&["episodes", "procedural:2", "--count", "1", "--seed", "1", "--out", eps.to_str().unwrap()]);
+    let ds = xhab_sim::episode::read_dataset(&eps).unwrap();
+    let e = &ds.episodes[0];
+    let f = |p: xhab_types::Point3| {
+        let h = p.to_habitat();
+        format!("{},{},{}", h[0], h[1], h[2])
+    };
+    let (from, to) = (f(e.start_position), f(e.goals[0].position));
+    let out = run(&["geodesic", "procedural:2", "--from", &from, "--to", &to]);
+    let d: f64 = String::from_utf8_lossy(&out.stdout).trim().parse().expect("one number");
+    let want = e.geodesic_distance.unwrap();
+    assert!((d - want).abs() < 1e-3, "{d} vs {want}");
+    let out = run(&["geodesic", "procedural:2", "--from", &from, "--to", &to, "--json"]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(j["geodesic_distance"].as_f64().is_some());
+}
+
+#[test]
+fn bad_input_gives_a_clear_error_not_a_panic() {
+    let out = xhab().args(["map", "/nonexistent/scene.glb", "--out", "/tmp/x"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/nonexistent/scene.glb") && !err.contains("panicked"), "{err}");
+    let out = xhab().args(["geodesic", "procedural", "--from", "1,2", "--to", "0,0,0"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--from"));
+}
+
+#[test]
+fn oracle_on_turtlebot3_house_meets_the_acceptance_bar() {
+    let Some(data) = data_dir("oracle_on_turtlebot3_house_meets_the_acceptance_bar") else { return };
+    let d = tmp("tb3");
+    let r = d.join("r.json");
+    run(&[
+        "bench",
+        "--scene",
+        data.join("scenes/turtlebot3_house.glb").to_str().unwrap(),
+        "--episodes",
+        data.join("episodes/turtlebot3_house_pointnav.json.gz").to_str().unwrap(),
+        "--out",
+        r.to_str().unwrap(),
+        "--threads",
+        "2",
+        "--quiet",
+    ]);
+    let j = read_json(&r);
+    let a = &j["aggregate"];
+    eprintln!("turtlebot3_house oracle: {a} invalid {}", j["invalid"]);
+    assert!(a["success"].as_f64().unwrap() >= 0.97, "{a}");
+    assert!(a["spl"].as_f64().unwrap() >= 0.95, "{a}");
+}

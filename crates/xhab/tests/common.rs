@@ -1,0 +1,24 @@
+//! Helpers shared by the integration tests.
+
+use std::path::PathBuf;
+
+/// The shared data folder (`$XHAB_DATA`, else `../shared` beside the workspace), or `None`
+/// with a loud message when it is missing; panics when `XHAB_REQUIRE_DATA=1` demands it.
+pub fn data_dir(test: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("XHAB_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared")));
+    if dir.join("scenes").is_dir() {
+        return Some(dir);
+    }
+    if std::env::var("XHAB_REQUIRE_DATA").as_deref() == Ok("1") {
+        panic!("{test}: XHAB_REQUIRE_DATA=1 but the shared data is missing at {}", dir.display());
+    }
+    eprintln!("SKIPPED {test}: shared data not found at {} (set XHAB_DATA)", dir.display());
+    None
+}
+
+/// The `xhab` binary built for these tests.
+pub fn xhab() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_xhab"))
+}

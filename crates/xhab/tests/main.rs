@@ -1,0 +1,4 @@
+//! Integration tests of the xhab workspace on real data and through the CLI.
+mod common;
+mod cli;
+mod map_vs_slam;
