@@ -1,3 +1,4 @@
 //! Integration tests of xhab-sim, one binary (topic files below).
 mod env_oracle;
+mod scenes;
 mod geodesic_closed_form;
