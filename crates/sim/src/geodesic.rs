@@ -32,6 +32,17 @@ impl GeodesicField {
     /// Computes the field towards `goals` (m, planar) on `grid`. Goals off the region are
     /// attached to the nearest navigable cell within two cells; farther ones are ignored.
     pub fn new(grid: &NavGrid, goals: &[Point2]) -> GeodesicField {
+        Self::build(grid, goals, None)
+    }
+
+    /// Like [`GeodesicField::new`], but a goal-directed search (A*-ordered, euclidean heuristic)
+    /// that stops once the cell of `from` is settled: only that part of the field is filled.
+    /// For one-off point-to-point distances.
+    pub fn towards(grid: &NavGrid, goals: &[Point2], from: Point2) -> GeodesicField {
+        Self::build(grid, goals, Some(from))
+    }
+
+    fn build(grid: &NavGrid, goals: &[Point2], target: Option<Point2>) -> GeodesicField {
         let (w, h) = grid.size();
         let n = w * h;
         let mut f = GeodesicField {
@@ -55,6 +66,13 @@ impl GeodesicField {
                 heap.push(Reverse((d.to_bits(), i as u32)));
             }
         }
+        let target_cell = target.and_then(|p| grid.cell_of(p).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(p, 2)));
+        // Heuristic: straight-line distance to the target's cell centre (consistent).
+        let tc = target_cell.map(|i| grid.center(i));
+        let heur = |c: [f64; 2]| tc.map_or(0.0, |t| dist2(c, t));
+        if tc.is_some() {
+            heap = heap.into_iter().map(|Reverse((_, i))| Reverse(((f.dist[i as usize] + heur(grid.center(i as usize))).to_bits(), i))).collect();
+        }
         let mut done = vec![false; n];
         while let Some(Reverse((_, m))) = heap.pop() {
             let m = m as usize;
@@ -62,6 +80,9 @@ impl GeodesicField {
                 continue;
             }
             done[m] = true;
+            if Some(m) == target_cell {
+                break;
+            }
             let q = f.parent[m];
             // The distance at m's own anchor point, for paths that bend at m.
             f.anchor_dist[m] = if grid.corner[m] {
@@ -101,7 +122,7 @@ impl GeodesicField {
                 if cand < f.dist[k] {
                     f.dist[k] = cand;
                     f.parent[k] = par;
-                    heap.push(Reverse((cand.to_bits(), k as u32)));
+                    heap.push(Reverse(((cand + heur(ck)).to_bits(), k as u32)));
                 }
             }
         }
@@ -212,7 +233,7 @@ impl GeodesicField {
 
 /// Geodesic distance between two points of one floor (m); infinite across islands.
 pub fn geodesic_distance(grid: &NavGrid, from: Point2, to: Point2) -> f64 {
-    GeodesicField::new(grid, &[to]).distance(grid, from)
+    GeodesicField::towards(grid, &[to], from).distance(grid, from)
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {

@@ -4,7 +4,7 @@ use crate::cli::GeodesicArgs;
 use crate::scene_arg::{load_world, parse_habitat_point};
 use anyhow::{Context, Result};
 use std::process::ExitCode;
-use xhab_sim::geodesic::GeodesicField;
+use xhab_sim::geodesic::geodesic_distance;
 
 pub fn run(a: &GeodesicArgs) -> Result<ExitCode> {
     let from = parse_habitat_point(&a.from, "--from")?;
@@ -15,7 +15,7 @@ pub fn run(a: &GeodesicArgs) -> Result<ExitCode> {
     let from_ok = grid.is_navigable(from.xy());
     let to_ok = grid.is_navigable(to.xy());
     let d = if same_floor && from_ok && to_ok {
-        GeodesicField::new(&grid, &[to.xy()]).distance(&grid, from.xy())
+        geodesic_distance(&grid, from.xy(), to.xy())
     } else {
         f64::INFINITY
     };
