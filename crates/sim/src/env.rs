@@ -82,6 +82,44 @@ pub struct StepResult {
     pub collided: bool,
 }
 
+/// An episode checked against a grid: start pose, goals, their geodesic field and d0.
+pub(crate) struct Prepared {
+    pub start: Pose2,
+    pub goals: Vec<Point2>,
+    pub field: Arc<GeodesicField>,
+    pub d0: f64,
+}
+
+/// Checks that the episode's start and goals are navigable and connected; builds its field.
+pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<Prepared, InvalidEpisode> {
+    let start = Pose2::new(episode.start_position.x, episode.start_position.y, normalize_angle(episode.start_yaw));
+    if !grid.is_navigable(start.position()) {
+        return Err(InvalidEpisode::StartNotNavigable { x: start.x, y: start.y });
+    }
+    if episode.goals.is_empty() {
+        return Err(InvalidEpisode::NoGoal);
+    }
+    let goals: Vec<Point2> = episode.goals.iter().map(|g| g.position.xy()).collect();
+    for g in &goals {
+        if !grid.is_navigable(*g) {
+            return Err(InvalidEpisode::GoalNotNavigable { x: g.x, y: g.y });
+        }
+    }
+    let field = Arc::new(GeodesicField::new(grid, &goals));
+    let d0 = field.distance(grid, start.position());
+    if !d0.is_finite() {
+        return Err(InvalidEpisode::Unreachable);
+    }
+    Ok(Prepared { start, goals, field, d0 })
+}
+
+/// The observation of an agent at `pose` in an episode that started at `start`.
+pub(crate) fn observation(start: Pose2, pose: Pose2, goal: Point2) -> Observation {
+    let rel = start.inverse().compose(pose);
+    let (dx, dy) = (goal.x - pose.x, goal.y - pose.y);
+    Observation { pose, gps: rel.position(), compass: rel.yaw, pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - pose.yaw)] }
+}
+
 /// What agents and runners see of a running PointNav episode, with or without physics.
 pub trait DiscreteEnv: Send {
     /// Applies one action (Habitat's discrete actions).
@@ -124,24 +162,7 @@ pub struct Env {
 impl Env {
     /// Starts `episode` on `grid` (the grid of the episode's floor).
     pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
-        let start = Pose2::new(episode.start_position.x, episode.start_position.y, normalize_angle(episode.start_yaw));
-        if !grid.is_navigable(start.position()) {
-            return Err(InvalidEpisode::StartNotNavigable { x: start.x, y: start.y });
-        }
-        if episode.goals.is_empty() {
-            return Err(InvalidEpisode::NoGoal);
-        }
-        let goals: Vec<Point2> = episode.goals.iter().map(|g| g.position.xy()).collect();
-        for g in &goals {
-            if !grid.is_navigable(*g) {
-                return Err(InvalidEpisode::GoalNotNavigable { x: g.x, y: g.y });
-            }
-        }
-        let field = Arc::new(GeodesicField::new(&grid, &goals));
-        let d0 = field.distance(&grid, start.position());
-        if !d0.is_finite() {
-            return Err(InvalidEpisode::Unreachable);
-        }
+        let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
         Ok(Env {
             grid,
             field,
@@ -192,15 +213,7 @@ impl DiscreteEnv for Env {
 
     /// The observation at the current pose.
     fn observe(&self) -> Observation {
-        let rel = self.start.inverse().compose(self.pose);
-        let g = self.goals[0];
-        let (dx, dy) = (g.x - self.pose.x, g.y - self.pose.y);
-        Observation {
-            pose: self.pose,
-            gps: rel.position(),
-            compass: rel.yaw,
-            pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - self.pose.yaw)],
-        }
+        observation(self.start, self.pose, self.goals[0])
     }
 
     /// Geodesic distance from the agent to the nearest goal (m).

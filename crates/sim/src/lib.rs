@@ -19,3 +19,5 @@ pub mod kinematic;
 pub mod metrics;
 pub mod oracle;
 pub mod world;
+pub mod robot;
+pub mod physics_env;

@@ -1,4 +1,5 @@
 //! Integration tests of xhab-sim, one binary (topic files below).
 mod env_oracle;
+mod physics;
 mod scenes;
 mod geodesic_closed_form;
