@@ -5,7 +5,10 @@ use crate::agents::AgentKind;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+use std::sync::Arc;
 use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
+use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
+use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_sim::episode::{Dataset, Episode};
 use xhab_sim::metrics::EpisodeMetrics;
 use xhab_sim::world::World;
@@ -22,6 +25,21 @@ pub struct RunConfig {
     pub threads: usize,
     /// Keep each episode's trajectory (poses after each step).
     pub record_trajectories: bool,
+    /// Run under physics (Algorithm 1) instead of teleporting.
+    pub physics: Option<PhysicsSetup>,
+    /// Seed of everything random in a run (odometry noise); episode i uses seed + i.
+    pub seed: u64,
+}
+
+/// What a physics run needs: the scene's shared rigid mesh, the robot and the settings.
+#[derive(Debug, Clone)]
+pub struct PhysicsSetup {
+    /// The scene as a static trimesh, shared by every episode.
+    pub scene: Arc<PhysicsScene>,
+    /// The robot.
+    pub profile: RobotProfile,
+    /// Control period, physics rate, odometry noise, stuck detection.
+    pub config: PhysicsConfig,
 }
 
 /// The outcome of one episode that ran.
@@ -36,6 +54,10 @@ pub struct EpisodeRun {
     /// Poses from the start, one per step (when recorded).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<Vec<Pose2>>,
+    /// Simulated time (s), physics runs only.
+    pub sim_s: Option<f64>,
+    /// Whether the robot got stuck (no progress over the stuck window), physics runs only.
+    pub stuck: Option<bool>,
 }
 
 /// An episode that could not run, and why.
@@ -56,8 +78,8 @@ pub enum Outcome {
     Invalid(InvalidRun),
 }
 
-/// Runs one episode with a fresh agent.
-pub fn run_episode(world: &World, ep: &Episode, cfg: &RunConfig) -> Outcome {
+/// Runs one episode (number `index` in its dataset) with a fresh agent.
+pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Outcome {
     let t0 = Instant::now();
     let invalid = |reason: String| Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason });
     let grid = match world.grid_at(ep.start_position.z) {
@@ -69,15 +91,31 @@ pub fn run_episode(world: &World, ep: &Episode, cfg: &RunConfig) -> Outcome {
             return invalid(format!("goal at height {:.3} m is not on the start's floor", g.position.z));
         }
     }
-    let mut env = match Env::new(grid, ep, cfg.task.clone()) {
-        Ok(e) => e,
-        Err(e) => return invalid(e.to_string()),
+    let mut physics_env = None;
+    let mut plain_env = None;
+    match &cfg.physics {
+        Some(ph) => {
+            let seed = cfg.seed.wrapping_add(index as u64);
+            match PhysicsEnv::new(grid, &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed) {
+                Ok(e) => physics_env = Some(e),
+                Err(e) => return invalid(e.to_string()),
+            }
+        }
+        None => match Env::new(grid, ep, cfg.task.clone()) {
+            Ok(e) => plain_env = Some(e),
+            Err(e) => return invalid(e.to_string()),
+        },
+    }
+    let env: &mut dyn DiscreteEnv = match (&mut physics_env, &mut plain_env) {
+        (Some(p), _) => p,
+        (_, Some(e)) => e,
+        _ => unreachable!("one of the two environments was built"),
     };
     let mut agent = cfg.agent.build();
     agent.reset();
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     while !env.is_done() {
-        let a = agent.act(&env);
+        let a = agent.act(env);
         env.step(a);
         if let Some(t) = traj.as_mut() {
             t.push(env.pose());
@@ -88,27 +126,29 @@ pub fn run_episode(world: &World, ep: &Episode, cfg: &RunConfig) -> Outcome {
         metrics: env.metrics(),
         wall_s: t0.elapsed().as_secs_f64(),
         trajectory: traj,
+        sim_s: physics_env.as_ref().map(|p| p.sim_s()),
+        stuck: physics_env.as_ref().map(|p| p.stuck()),
     })
 }
 
 /// Runs every episode of `ds`; results come back in the dataset's order whatever the thread
 /// count. `progress` is called once per finished episode (from any thread).
 pub fn run_dataset(world: &World, ds: &Dataset, cfg: &RunConfig, progress: &(dyn Fn() + Sync)) -> Vec<Outcome> {
-    let run = |ep: &Episode| {
-        let o = run_episode(world, ep, cfg);
+    let run = |(i, ep): (usize, &Episode)| {
+        let o = run_episode(world, ep, i, cfg);
         progress();
         o
     };
     if cfg.threads <= 1 {
-        return ds.episodes.iter().map(run).collect();
+        return ds.episodes.iter().enumerate().map(run).collect();
     }
     // Grids are built once, before the workers start, so that no worker waits on another.
     for ep in &ds.episodes {
         let _ = world.grid_at(ep.start_position.z);
     }
     match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
-        Ok(pool) => pool.install(|| ds.episodes.par_iter().map(run).collect()),
-        Err(_) => ds.episodes.iter().map(run).collect(),
+        Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
+        Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
     }
 }
 
@@ -133,6 +173,28 @@ pub struct Aggregate {
     pub wall_s: f64,
     /// Actions per second of wall time over the whole run.
     pub steps_per_s: f64,
+    /// Total simulated time (s), physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sim_s: Option<f64>,
+    /// Simulated seconds per wall-clock second (sim_s / wall_s), physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub real_time_factor: Option<f64>,
+    /// Fraction of episodes in which the robot got stuck, physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stuck: Option<f64>,
+    /// Failed episodes by cause.
+    pub failures: Failures,
+}
+
+/// Why episodes failed (each failed episode counts once, in the first matching cause).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Failures {
+    /// The robot got stuck (physics).
+    pub stuck: usize,
+    /// The agent called stop outside the success radius.
+    pub stopped_outside: usize,
+    /// The step limit ran out before stop.
+    pub step_limit: usize,
 }
 
 /// Aggregates episode runs; `wall_s` is the run's elapsed time (s).
@@ -140,7 +202,23 @@ pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
     let n = runs.len().max(1) as f64;
     let mean = |f: &dyn Fn(&EpisodeMetrics) -> f64| runs.iter().map(|r| f(&r.metrics)).sum::<f64>() / n;
     let total_steps: f64 = runs.iter().map(|r| r.metrics.steps as f64).sum();
+    let physics = runs.iter().any(|r| r.sim_s.is_some());
+    let sim_s: f64 = runs.iter().filter_map(|r| r.sim_s).sum();
+    let mut failures = Failures::default();
+    for r in runs.iter().filter(|r| r.metrics.success < 1.0) {
+        if r.stuck == Some(true) {
+            failures.stuck += 1;
+        } else if r.metrics.called_stop {
+            failures.stopped_outside += 1;
+        } else {
+            failures.step_limit += 1;
+        }
+    }
     Aggregate {
+        sim_s: physics.then_some(sim_s),
+        real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
+        stuck: physics.then(|| runs.iter().filter(|r| r.stuck == Some(true)).count() as f64 / n),
+        failures,
         episodes: runs.len(),
         success: mean(&|m| m.success),
         spl: mean(&|m| m.spl),

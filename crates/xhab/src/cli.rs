@@ -49,9 +49,9 @@ pub struct SceneOpts {
     /// Keep meshes named "ceiling" (dropped by default).
     #[arg(long, help_heading = "Scene")]
     pub keep_ceilings: bool,
-    /// Agent radius (m).
-    #[arg(long, default_value_t = 0.1, help_heading = "Agent")]
-    pub agent_radius: f64,
+    /// Agent radius (m) [default: 0.1, or the robot's radius under --physics].
+    #[arg(long, help_heading = "Agent")]
+    pub agent_radius: Option<f64>,
     /// Agent height (m).
     #[arg(long, default_value_t = 1.5, help_heading = "Agent")]
     pub agent_height: f64,
@@ -183,8 +183,30 @@ pub struct BenchArgs {
     /// Action limit per episode.
     #[arg(long, default_value_t = 500)]
     pub max_steps: u32,
+    /// Seed of the run's randomness (odometry noise); episode i uses SEED + i.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub physics: PhysicsOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
+}
+
+/// Physics mode options.
+#[derive(Debug, Clone, Args)]
+pub struct PhysicsOpts {
+    /// Run under rapier3d physics: each action becomes velocities held for --control-period.
+    #[arg(long, help_heading = "Physics")]
+    pub physics: bool,
+    /// Robot profile: habitat, locobot, turtlebot3_burger, turtlebot3_waffle, or a .yaml file.
+    #[arg(long, default_value = "habitat", help_heading = "Physics")]
+    pub robot: String,
+    /// Seconds each discrete action's velocities are held (T of Algorithm 1).
+    #[arg(long, default_value_t = 1.0, help_heading = "Physics")]
+    pub control_period: f64,
+    /// Physics steps per simulated second.
+    #[arg(long, default_value_t = 60.0, help_heading = "Physics")]
+    pub steps_per_sec: f64,
 }
 
 /// `xhab perf`.
@@ -198,6 +220,8 @@ pub struct PerfArgs {
     /// Seconds to spend on each timed figure (approximate).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
+    #[command(flatten)]
+    pub physics: PhysicsOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
 }

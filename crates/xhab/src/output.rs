@@ -22,6 +22,9 @@ pub struct BenchReport {
     pub threads: usize,
     /// Task settings.
     pub task: TaskConfig,
+    /// Physics settings and robot (physics runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physics: Option<serde_json::Value>,
     /// Means over valid episodes.
     pub aggregate: Aggregate,
     /// Episodes left out because their start or goal is not navigable for the agent.
@@ -68,6 +71,15 @@ pub struct EpisodeReport {
     pub start_distance: f64,
     /// Whether the agent called stop.
     pub called_stop: bool,
+    /// Simulated time (s), physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sim_s: Option<f64>,
+    /// sim_s / wall_s, physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub real_time_factor: Option<f64>,
+    /// Whether the robot got stuck, physics runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stuck: Option<bool>,
 }
 
 impl From<&EpisodeRun> for EpisodeReport {
@@ -86,6 +98,9 @@ impl From<&EpisodeRun> for EpisodeReport {
             path_length: m.path_length,
             start_distance: m.start_distance,
             called_stop: m.called_stop,
+            sim_s: r.sim_s,
+            real_time_factor: r.sim_s.map(|s| if r.wall_s > 0.0 { s / r.wall_s } else { 0.0 }),
+            stuck: r.stuck,
         }
     }
 }

@@ -38,7 +38,7 @@ pub fn procedural_seed(arg: &str) -> Result<Option<u64>> {
 
 /// The agent parameters of the scene options.
 pub fn agent_params(opts: &SceneOpts) -> AgentParams {
-    AgentParams { radius: opts.agent_radius, height: opts.agent_height, cell_size: opts.cell_size, ..Default::default() }
+    AgentParams { radius: opts.agent_radius.unwrap_or(0.1), height: opts.agent_height, cell_size: opts.cell_size, ..Default::default() }
 }
 
 /// Loads the scene and wraps it in a world.

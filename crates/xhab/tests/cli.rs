@@ -88,7 +88,7 @@ fn map_writes_map_server_files_that_read_back() {
     run(&["map", "procedural:1", "--out", out.to_str().unwrap(), "--resolution", "0.05"]);
     let (grid, meta) = xhab_nav::map_server::load_map(&d.join("house.yaml")).expect("map reads back");
     assert!((meta.resolution - 0.05).abs() < 1e-12);
-    assert!(grid.data.iter().any(|&v| v == 100) && grid.data.iter().any(|&v| v == 0));
+    assert!(grid.data.contains(&100) && grid.data.contains(&0));
     assert!(d.join("house.png").is_file() && d.join("house.pgm").is_file());
 }
 
@@ -146,4 +146,24 @@ fn oracle_on_turtlebot3_house_meets_the_acceptance_bar() {
     eprintln!("turtlebot3_house oracle: {a} invalid {}", j["invalid"]);
     assert!(a["success"].as_f64().unwrap() >= 0.97, "{a}");
     assert!(a["spl"].as_f64().unwrap() >= 0.95, "{a}");
+}
+
+#[test]
+fn bench_under_physics_reports_sim_time_and_stays_close_to_kinematic() {
+    let d = tmp("phys");
+    let eps = d.join("e.json.gz");
+    run(&["episodes", "procedural:5", "--count", "6", "--seed", "2", "--out", eps.to_str().unwrap()]);
+    let (k, p) = (d.join("k.json"), d.join("p.json"));
+    run(&["bench", "--scene", "procedural:5", "--episodes", eps.to_str().unwrap(), "--out", k.to_str().unwrap(), "--quiet"]);
+    run(&["bench", "--scene", "procedural:5", "--episodes", eps.to_str().unwrap(), "--out", p.to_str().unwrap(), "--physics", "--quiet"]);
+    let (k, p) = (read_json(&k), read_json(&p));
+    let a = &p["aggregate"];
+    for f in ["sim_s", "real_time_factor", "stuck"] {
+        assert!(a.get(f).is_some(), "aggregate misses {f}: {a}");
+        assert!(p["episodes"][0].get(f).is_some(), "episode misses {f}");
+    }
+    assert!(k["aggregate"].get("sim_s").is_none());
+    let (sk, sp) = (k["aggregate"]["spl"].as_f64().unwrap(), a["spl"].as_f64().unwrap());
+    assert!((sk - sp).abs() <= 0.05, "kinematic SPL {sk} vs physics {sp}");
+    assert!(a["real_time_factor"].as_f64().unwrap() > 1.0);
 }

@@ -34,8 +34,9 @@ pub(crate) fn dedup_segments(segs: &mut Vec<Seg>) {
         let b = [(s[1][0] * Q).round() as i64, (s[1][1] * Q).round() as i64];
         if a <= b { (a, b) } else { (b, a) }
     };
-    let mut keyed: Vec<(([i64; 2], [i64; 2]), Seg)> = segs.iter().map(|s| (key(s), *s)).collect();
-    keyed.sort_by(|x, y| x.0.cmp(&y.0));
+    type Key = ([i64; 2], [i64; 2]);
+    let mut keyed: Vec<(Key, Seg)> = segs.iter().map(|s| (key(s), *s)).collect();
+    keyed.sort_by_key(|x| x.0);
     keyed.dedup_by(|x, y| x.0 == y.0);
     // Drop segments that collapse to a point only when a longer segment shares that point.
     *segs = keyed.into_iter().map(|(_, s)| s).collect();

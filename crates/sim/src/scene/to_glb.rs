@@ -46,10 +46,10 @@ pub fn to_glb_bytes(scene: &Scene) -> Vec<u8> {
         "buffers": [{"byteLength": bin.len()}],
     });
     let mut json = serde_json::to_vec(&root).unwrap_or_default();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();

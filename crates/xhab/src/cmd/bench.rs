@@ -1,6 +1,6 @@
 //! `xhab bench`: an agent on every episode of a dataset; metrics as JSON, CSV and a table.
 
-use crate::cli::{AgentArg, BenchArgs};
+use crate::cli::{AgentArg, BenchArgs, PhysicsOpts};
 use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
 use crate::report::MapPicture;
 use crate::scene_arg::load_world;
@@ -9,20 +9,29 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 use xhab_bridge::agents::AgentKind;
-use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, RunConfig};
+use std::sync::Arc;
+use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, PhysicsSetup, RunConfig};
+use xhab_sim::physics_env::PhysicsConfig;
+use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_sim::env::TaskConfig;
 use xhab_sim::episode::{read_dataset, Dataset};
 use xhab_sim::world::World;
 use xhab_types::Point2;
 
 pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
-    let world = load_world(&a.scene, &a.scene_opts)?;
+    let mut opts = a.scene_opts.clone();
+    if a.physics.physics && opts.agent_radius.is_none() {
+        // Plan for the robot that drives.
+        opts.agent_radius = Some(RobotProfile::named_or_file(&a.physics.robot).with_context(|| format!("--robot {}", a.physics.robot))?.radius);
+    }
+    let world = load_world(&a.scene, &opts)?;
     let ds = read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
     let agent = match a.agent {
         AgentArg::Oracle => AgentKind::Oracle,
     };
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
-    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some() };
+    let physics = physics_setup(&world, &a.physics)?;
+    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed };
     let (report, outcomes) = bench(&world, &ds, &cfg, &a.scene, &a.episodes.display().to_string(), quiet)?;
     if let Some(dir) = &a.trajectories {
         draw_trajectories(&world, &ds, &outcomes, dir)?;
@@ -38,6 +47,23 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     }
     print_table(&report.aggregate, report.invalid.count, agent.name());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.
+pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSetup>> {
+    if !o.physics {
+        return Ok(None);
+    }
+    let profile = RobotProfile::named_or_file(&o.robot).with_context(|| format!("--robot {}", o.robot))?;
+    let t = Instant::now();
+    let scene = PhysicsScene::new(&world.scene).context("building the physics world")?;
+    tracing::info!("physics mesh built in {:.3} s", t.elapsed().as_secs_f64());
+    let config = PhysicsConfig {
+        control_period: o.control_period,
+        physics: xhab_sim::robot::PhysicsParams { steps_per_sec: o.steps_per_sec, ..Default::default() },
+        ..Default::default()
+    };
+    Ok(Some(PhysicsSetup { scene: Arc::new(scene), profile, config }))
 }
 
 /// Runs the benchmark and builds its report (warnings for invalid episodes on stderr).
@@ -73,6 +99,7 @@ pub fn bench(
         agent: cfg.agent.name().to_string(),
         threads: cfg.threads,
         task: cfg.task.clone(),
+        physics: cfg.physics.as_ref().map(|p| serde_json::json!({"robot": p.profile, "config": p.config, "seed": cfg.seed})),
         aggregate: agg,
         invalid: InvalidReport {
             count: invalid.len(),
@@ -91,6 +118,13 @@ pub fn print_table(a: &Aggregate, invalid: usize, agent: &str) {
         "{:<8} {:>8} {:>8.3} {:>8.3} {:>8.3} {:>10.3} {:>8.1} {:>10.1} {:>8.2} {:>12.0}",
         agent, a.episodes, a.success, a.spl, a.soft_spl, a.distance_to_goal, a.steps, a.collisions, a.wall_s, a.steps_per_s
     );
+    if let (Some(sim), Some(rtf), Some(stuck)) = (a.sim_s, a.real_time_factor, a.stuck) {
+        println!("physics: {sim:.0} s simulated, {rtf:.0}x real time, stuck in {:.1}% of episodes", stuck * 100.0);
+    }
+    let f = &a.failures;
+    if f.stuck + f.stopped_outside + f.step_limit > 0 {
+        println!("failures: {} stuck, {} stopped outside the goal, {} ran out of steps", f.stuck, f.stopped_outside, f.step_limit);
+    }
     if invalid > 0 {
         println!("({invalid} invalid episodes left out)");
     }

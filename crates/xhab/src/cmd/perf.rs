@@ -128,7 +128,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
             ostep_s += t.elapsed().as_secs_f64();
         }
     }
-    let j = serde_json::json!({
+    let mut j = serde_json::json!({
         "scene": a.scene,
         "triangles": tris,
         "floor_height_m": grid.floor_z,
@@ -143,10 +143,67 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         "threads": 1,
         "checksum": checksum,
     });
+    if a.physics.physics {
+        let ph = physics_perf(&world, &grid, &episodes, a)?;
+        if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), ph) {
+            m.extend(p);
+        }
+    }
     if a.json {
         println!("{j}");
     } else {
         println!("{}", serde_json::to_string_pretty(&j)?);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Physics figures: raw physics steps of one robot, and discrete actions via Algorithm 1.
+fn physics_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>, episodes: &[Episode], a: &PerfArgs) -> Result<serde_json::Value> {
+    use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
+    use xhab_sim::robot::{PhysicsParams, PhysicsScene, RigidRobot, RobotProfile};
+    use xhab_types::Twist;
+    let profile = RobotProfile::named_or_file(&a.physics.robot)?;
+    let t = Instant::now();
+    let scene = PhysicsScene::new(&world.scene)?;
+    let mesh_s = t.elapsed().as_secs_f64();
+    let params = PhysicsParams { steps_per_sec: a.physics.steps_per_sec, ..Default::default() };
+    let ep = &episodes[0];
+    let start = xhab_types::Pose2::new(ep.start_position.x, ep.start_position.y, 0.0);
+    let mut robot = RigidRobot::new(&scene, &profile, start, grid.floor_z, &params)?;
+    let (mut n, t) = (0u64, Instant::now());
+    while t.elapsed().as_secs_f64() < a.seconds * 0.5 {
+        for k in 0..600 {
+            // Drive forward and turn in alternating two-second blocks: contacts included.
+            let twist = if (k / 120) % 2 == 0 { Twist { linear: 0.25, angular: 0.0 } } else { Twist { linear: 0.0, angular: 0.5 } };
+            robot.step_physics(twist);
+        }
+        n += 600;
+    }
+    let steps_per_s = n as f64 / t.elapsed().as_secs_f64();
+    let mut act_rng = ChaCha8Rng::seed_from_u64(13);
+    let config = PhysicsConfig { control_period: a.physics.control_period, physics: params, ..Default::default() };
+    let (mut actions, mut act_s) = (0u64, 0.0);
+    while act_s < a.seconds * 0.5 {
+        for (i, ep) in episodes.iter().enumerate() {
+            let Ok(mut env) = PhysicsEnv::new(grid.clone(), &scene, ep, TaskConfig::default(), &profile, config.clone(), i as u64) else { continue };
+            let t = Instant::now();
+            for _ in 0..50 {
+                let act = match act_rng.gen_range(0..4) {
+                    0 | 1 => Action::MoveForward,
+                    2 => Action::TurnLeft,
+                    _ => Action::TurnRight,
+                };
+                env.step(act);
+            }
+            act_s += t.elapsed().as_secs_f64();
+            actions += 50;
+        }
+    }
+    Ok(serde_json::json!({
+        "robot": profile.name,
+        "physics_mesh_build_s": mesh_s,
+        "physics_steps_per_s": steps_per_s,
+        "physics_action_steps_per_s": actions as f64 / act_s,
+        "physics_real_time_factor": steps_per_s / a.physics.steps_per_sec,
+    }))
 }
