@@ -129,3 +129,31 @@ fn nan_commands_never_reach_the_solver() {
     assert!(q.x.is_finite() && q.y.is_finite() && q.yaw.is_finite());
     assert_eq!(r.rejected_commands, 30);
 }
+
+#[test]
+fn the_body_follows_a_ramp_and_small_bumps() {
+    use xhab_sim::scene::Mesh;
+    let mut s = Scene::default();
+    s.add_box("floor", [-2.0, -2.0, -0.05], [8.0, 2.0, 0.0], GREY);
+    // A 8.5 degree ramp from x = 1 to 3 up to 0.3 m, then a plateau to x = 6.
+    s.meshes.push(Mesh {
+        name: "ramp".into(),
+        positions: vec![[1.0, -2.0, 0.0], [3.0, -2.0, 0.3], [3.0, 2.0, 0.3], [1.0, 2.0, 0.0]],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        base_color: GREY,
+    });
+    s.add_box("plateau", [3.0, -2.0, 0.0], [6.0, 2.0, 0.3], GREY);
+    // A 2 cm cable on the plateau.
+    s.add_box("cable", [4.5, -2.0, 0.3], [4.55, 2.0, 0.32], GREY);
+    let ps = PhysicsScene::new(&s).unwrap();
+    let p = RobotProfile::builtin("locobot").unwrap();
+    let mut r = RigidRobot::new(&ps, &p, Pose2::new(0.0, 0.0, 0.0), 0.0, &PhysicsParams::default()).unwrap();
+    let z0 = r.z();
+    for _ in 0..(60.0 * 5.5 / 0.5) as usize {
+        r.step_physics(Twist { linear: 0.5, angular: 0.0 });
+    }
+    let q = r.pose();
+    eprintln!("after the ramp: x = {:.3}, z - z0 = {:.3}", q.x, r.z() - z0);
+    assert!(q.x > 5.0, "stopped at x = {}", q.x);
+    assert!((r.z() - z0 - 0.3).abs() < 0.03, "z rose by {}", r.z() - z0);
+}
