@@ -1,6 +1,12 @@
 //! The xhab navigation stack: knows nothing of the simulator or of ROS.
 //!
-//! For now: [`map_io`], map_server's PGM + YAML format, read and written exactly.
+//! [`map_server`]: maps in ROS's format; [`costmap`]: static and inflation layers with ROS
+//! cost values; [`planner`]: A*/Dijkstra global planner; [`dwa`]: the DWA local planner;
+//! [`navigator`]: a move_base-like state machine over them.
 #![warn(missing_docs)]
+
+pub mod costmap;
+pub mod dwa;
 pub mod map_io;
 pub mod map_server;
+pub mod planner;

@@ -1,0 +1,205 @@
+//! A 2D costmap with ROS cost values: a static layer from a map_server map and an inflation
+//! layer with costmap_2d's cost function, computed with an exact distance transform.
+
+use serde::{Deserialize, Serialize};
+use xhab_types::{OccupancyGrid, Point2, GRID_UNKNOWN};
+
+/// A free cell.
+pub const FREE: u8 = 0;
+/// A cell within the robot's inscribed radius of an obstacle.
+pub const INSCRIBED: u8 = 253;
+/// An obstacle.
+pub const LETHAL: u8 = 254;
+/// Unknown space.
+pub const UNKNOWN: u8 = 255;
+
+/// Costmap parameters (ROS costmap_2d names).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CostmapParams {
+    /// Robot radius (m, default 0.1): the inscribed radius of a round footprint.
+    pub robot_radius: f64,
+    /// Distance to which costs are inflated around obstacles (m, default 0.55).
+    pub inflation_radius: f64,
+    /// Decay of the inflated cost with distance (1/m, default 10).
+    pub cost_scaling_factor: f64,
+    /// Map occupancy (0..100) from which a cell is lethal (default 65, as map_saver).
+    pub lethal_cost_threshold: i8,
+    /// Treat unknown cells as unknown (true) or as free (false, default), as ROS track_unknown_space.
+    pub track_unknown_space: bool,
+}
+
+impl Default for CostmapParams {
+    fn default() -> Self {
+        Self { robot_radius: 0.1, inflation_radius: 0.55, cost_scaling_factor: 10.0, lethal_cost_threshold: 65, track_unknown_space: false }
+    }
+}
+
+/// A costmap: row-major u8 costs, row 0 at the bottom, like the map it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Costmap {
+    /// Cells along x.
+    pub width: usize,
+    /// Cells along y.
+    pub height: usize,
+    /// Cell size (m).
+    pub resolution: f64,
+    /// World position of the lower-left corner of cell (0, 0) (m).
+    pub origin: Point2,
+    /// Costs.
+    pub cost: Vec<u8>,
+}
+
+/// ROS inflation cost at distance `d` (m) from an obstacle.
+pub fn inflation_cost(d: f64, p: &CostmapParams) -> u8 {
+    if d <= 0.0 {
+        LETHAL
+    } else if d <= p.robot_radius {
+        INSCRIBED
+    } else if d > p.inflation_radius {
+        FREE
+    } else {
+        (252.0 * (-p.cost_scaling_factor * (d - p.robot_radius)).exp()).floor() as u8
+    }
+}
+
+impl Costmap {
+    /// The static layer of `map` inflated (the map must not be rotated: origin yaw 0).
+    pub fn from_map(map: &OccupancyGrid, p: &CostmapParams) -> Costmap {
+        let (w, h) = (map.width, map.height);
+        let lethal: Vec<bool> = map.data.iter().map(|&v| v >= p.lethal_cost_threshold).collect();
+        let d = edt(&lethal, w, h);
+        let mut cost = vec![FREE; w * h];
+        for i in 0..w * h {
+            cost[i] = if lethal[i] {
+                LETHAL
+            } else {
+                let c = inflation_cost(d[i] * map.resolution, p);
+                if p.track_unknown_space && map.data[i] == GRID_UNKNOWN && c < INSCRIBED {
+                    UNKNOWN
+                } else {
+                    c
+                }
+            };
+        }
+        Costmap { width: w, height: h, resolution: map.resolution, origin: Point2::new(map.origin.x, map.origin.y), cost }
+    }
+
+    /// Cell (col, row) of world point `p`, if inside.
+    pub fn cell(&self, p: Point2) -> Option<(usize, usize)> {
+        let c = ((p.x - self.origin.x) / self.resolution).floor();
+        let r = ((p.y - self.origin.y) / self.resolution).floor();
+        (c >= 0.0 && r >= 0.0 && c < self.width as f64 && r < self.height as f64).then_some((c as usize, r as usize))
+    }
+
+    /// World centre of cell (col, row) (m).
+    pub fn center(&self, c: usize, r: usize) -> Point2 {
+        Point2::new(self.origin.x + (c as f64 + 0.5) * self.resolution, self.origin.y + (r as f64 + 0.5) * self.resolution)
+    }
+
+    /// Cost at world point `p`; LETHAL outside the map.
+    pub fn cost_at(&self, p: Point2) -> u8 {
+        self.cell(p).map_or(LETHAL, |(c, r)| self.cost[r * self.width + c])
+    }
+}
+
+/// Distance (in cells) from each cell centre to the nearest `true` cell centre.
+pub(crate) fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f64> {
+    const INF: f64 = 1e20;
+    let mut f: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { INF }).collect();
+    let n = w.max(h);
+    let (mut buf, mut out, mut v, mut z) = (vec![0.0; n], vec![0.0; n], vec![0usize; n], vec![0.0; n + 1]);
+    let mut pass = |f: &mut Vec<f64>, len: usize, idx: &dyn Fn(usize) -> usize| {
+        for q in 0..len {
+            buf[q] = f[idx(q)];
+        }
+        dt1d(&buf[..len], &mut out[..len], &mut v, &mut z);
+        for q in 0..len {
+            f[idx(q)] = out[q];
+        }
+    };
+    for c in 0..w {
+        pass(&mut f, h, &|r| r * w + c);
+    }
+    for r in 0..h {
+        pass(&mut f, w, &|c| r * w + c);
+    }
+    f.into_iter().map(|x| if x >= INF * 0.5 { f64::INFINITY } else { x.sqrt() }).collect()
+}
+
+fn dt1d(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
+    let n = f.len();
+    let Some(first) = (0..n).find(|&q| f[q] < 1e19) else {
+        d.iter_mut().for_each(|x| *x = 1e20);
+        return;
+    };
+    let mut k = 0;
+    v[0] = first;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    for q in first + 1..n {
+        if f[q] >= 1e19 {
+            continue;
+        }
+        loop {
+            let p = v[k];
+            let s = ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q - p) as f64);
+            if s <= z[k] && k > 0 {
+                k -= 1;
+            } else if s <= z[k] {
+                v[0] = q;
+                z[1] = f64::INFINITY;
+                break;
+            } else {
+                k += 1;
+                v[k] = q;
+                z[k] = s;
+                z[k + 1] = f64::INFINITY;
+                break;
+            }
+        }
+    }
+    k = 0;
+    for q in 0..n {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        d[q] = (q as f64 - v[k] as f64).powi(2) + f[v[k]];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use xhab_types::Pose2;
+
+    #[test]
+    fn inflation_follows_the_ros_formula() {
+        let p = CostmapParams::default();
+        assert_eq!(inflation_cost(0.0, &p), LETHAL);
+        assert_eq!(inflation_cost(0.05, &p), INSCRIBED);
+        assert_eq!(inflation_cost(0.1, &p), INSCRIBED);
+        // 252 * exp(-10 * 0.1) = 92.7
+        assert_eq!(inflation_cost(0.2, &p), 92);
+        assert_eq!(inflation_cost(0.56, &p), FREE);
+        let mut last = 255;
+        for k in 0..60 {
+            let c = inflation_cost(k as f64 * 0.01, &p);
+            assert!(c <= last);
+            last = c;
+        }
+    }
+
+    #[test]
+    fn costmap_of_a_wall() {
+        let mut m = OccupancyGrid::new(20, 10, 0.05, Pose2::new(0.0, 0.0, 0.0), 0);
+        for r in 0..10 {
+            m.set(10, r, 100);
+        }
+        let cm = Costmap::from_map(&m, &CostmapParams::default());
+        assert_eq!(cm.cost[5 * 20 + 10], LETHAL);
+        assert_eq!(cm.cost[5 * 20 + 8], INSCRIBED); // 0.1 m away
+        assert_eq!(cm.cost[5 * 20 + 6], 92); // 0.2 m away
+        assert_eq!(cm.cost_at(Point2::new(-1.0, 0.0)), LETHAL);
+    }
+}
