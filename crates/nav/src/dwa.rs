@@ -144,9 +144,17 @@ impl Dwa {
             local += 1;
         }
         let lg = self.plan[local].position();
-        // Goal or path behind: turn in place towards the local goal first.
-        let heading_err = normalize_angle((lg.y - here.y).atan2(lg.x - here.x) - pose.yaw);
-        if heading_err.abs() > p.rotate_first_angle && here.dist(lg) > p.xy_goal_tolerance {
+        // Goal or path behind: turn in place first, towards the path a little ahead (not the
+        // local goal, which may lie around a corner).
+        let mut near = self.progress;
+        let mut acc = 0.0;
+        while near + 1 < self.plan.len() && acc < 0.4 {
+            acc += self.plan[near].position().dist(self.plan[near + 1].position());
+            near += 1;
+        }
+        let carrot = self.plan[near].position();
+        let heading_err = normalize_angle((carrot.y - here.y).atan2(carrot.x - here.x) - pose.yaw);
+        if heading_err.abs() > p.rotate_first_angle && here.dist(carrot) > p.xy_goal_tolerance {
             let w = (heading_err * 1.5).clamp(-p.max_vel_theta, p.max_vel_theta);
             let w = w.clamp(vel.angular - p.acc_lim_theta * p.controller_period, vel.angular + p.acc_lim_theta * p.controller_period);
             return Ok(Twist { linear: 0.0, angular: w });
@@ -184,9 +192,24 @@ impl Dwa {
             }
             max_cost = max_cost.max(c);
         }
-        let fp = Point2::new(q.x + p.forward_point_distance * q.yaw.cos(), q.y + p.forward_point_distance * q.yaw.sin());
-        let path_d = window.iter().map(|a| a.position().dist(fp)).fold(f64::INFINITY, f64::min);
-        let goal_d = q.position().dist(lg).min(fp.dist(lg));
+        // Near the end of the plan the point ahead would overshoot: score the rollout's end.
+        let near_end = self.plan.last().is_some_and(|g| pose.position().dist(g.position()) < 2.0 * p.forward_point_distance + p.xy_goal_tolerance);
+        let ahead = Point2::new(q.x + p.forward_point_distance * q.yaw.cos(), q.y + p.forward_point_distance * q.yaw.sin());
+        // The point ahead must not look through an obstacle (ROS scores on obstacle-aware grid
+        // distances; ours are straight-line, so a blocked point ahead falls back to the end).
+        let fp = if near_end || !crate::planner::segment_cost_ok(cm, q.position(), ahead, INSCRIBED) { q.position() } else { ahead };
+        // Distance to the path, and to the local goal along the path from the path point
+        // nearest to the scored point (not the straight line, which cuts corners).
+        let (mut near_i, mut path_d) = (0, f64::INFINITY);
+        for (i, a) in window.iter().enumerate() {
+            let d = a.position().dist(fp);
+            if d < path_d {
+                path_d = d;
+                near_i = i;
+            }
+        }
+        let remaining: f64 = window[near_i..].windows(2).map(|w| w[0].position().dist(w[1].position())).sum();
+        let goal_d = path_d + remaining + lg.dist(window[window.len() - 1].position());
         let res = cm.resolution;
         Some(p.path_distance_bias * path_d / res + p.goal_distance_bias * goal_d / res + p.occdist_scale * max_cost as f64)
     }

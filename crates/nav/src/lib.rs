@@ -9,4 +9,5 @@ pub mod costmap;
 pub mod dwa;
 pub mod map_io;
 pub mod map_server;
+pub mod navigator;
 pub mod planner;

@@ -20,17 +20,17 @@ pub struct PlannerParams {
     pub use_astar: bool,
     /// Cost of a free cell (default 50).
     pub neutral_cost: f64,
-    /// Weight of the cell cost (default 1.0).
+    /// Weight of the cell cost (default 3.0, as ROS).
     pub cost_factor: f64,
     /// How far from an occupied goal a free goal may be taken (m, default 0.5).
     pub default_tolerance: f64,
-    /// Highest cell cost a straightened leg may cross (default 128).
+    /// Highest cell cost a straightened leg may cross (default 60: about 0.25 m from walls with the default inflation).
     pub smooth_max_cost: u8,
 }
 
 impl Default for PlannerParams {
     fn default() -> Self {
-        Self { use_astar: true, neutral_cost: 50.0, cost_factor: 1.0, default_tolerance: 0.5, smooth_max_cost: 128 }
+        Self { use_astar: true, neutral_cost: 50.0, cost_factor: 3.0, default_tolerance: 0.5, smooth_max_cost: 60 }
     }
 }
 

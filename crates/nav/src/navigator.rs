@@ -1,0 +1,306 @@
+//! A move_base-like navigator: plan, control, recover (clear and replan, rotate in place),
+//! abort. Driven by explicit calls with the simulated time; it never reads a clock.
+
+use crate::costmap::{Costmap, CostmapParams};
+use crate::dwa::{Dwa, DwaParams};
+use crate::planner::{plan, PlannerParams};
+use serde::{Deserialize, Serialize};
+use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
+
+/// Navigator parameters (move_base names) and those of its parts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct NavParams {
+    /// move_base settings.
+    pub move_base: MoveBaseParams,
+    /// Global costmap.
+    pub global_costmap: CostmapParams,
+    /// Global planner.
+    #[serde(alias = "GlobalPlanner")]
+    pub planner: PlannerParams,
+    /// Local planner.
+    #[serde(rename = "DWAPlannerROS")]
+    pub dwa: DwaParams,
+}
+
+/// move_base's own parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MoveBaseParams {
+    /// Replanning rate while controlling (Hz, default 0.5; 0 = only when needed).
+    pub planner_frequency: f64,
+    /// How long planning may fail before recovery (s, default 5).
+    pub planner_patience: f64,
+    /// How long the controller may fail before recovery (s, default 3).
+    pub controller_patience: f64,
+    /// Progress the robot must make within `oscillation_timeout` (m, default 0.5).
+    pub oscillation_distance: f64,
+    /// Time to make `oscillation_distance` of progress before recovery (s, default 10; 0 = off).
+    pub oscillation_timeout: f64,
+    /// Recoveries before giving up (default 4).
+    pub max_recoveries: u32,
+    /// Turn rate of the rotate-in-place recovery (rad/s, default 1.0).
+    pub recovery_rotation_speed: f64,
+}
+
+impl Default for MoveBaseParams {
+    fn default() -> Self {
+        Self {
+            planner_frequency: 0.5,
+            planner_patience: 5.0,
+            controller_patience: 3.0,
+            oscillation_distance: 0.5,
+            oscillation_timeout: 10.0,
+            max_recoveries: 4,
+            recovery_rotation_speed: 1.0,
+        }
+    }
+}
+
+/// Where the navigator is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NavStatus {
+    /// No goal.
+    Idle,
+    /// Making a plan.
+    Planning,
+    /// Following the plan.
+    Controlling,
+    /// Running a recovery behaviour.
+    Recovering,
+    /// Within xy_goal_tolerance of the goal.
+    Succeeded,
+    /// Gave up.
+    Aborted,
+}
+
+/// The navigator's output for one tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NavCommand {
+    /// Velocity command (m/s, rad/s).
+    pub twist: Twist,
+    /// State after the tick.
+    pub status: NavStatus,
+}
+
+/// The navigator.
+#[derive(Debug, Clone)]
+pub struct Navigator {
+    /// Parameters.
+    pub params: NavParams,
+    costmap: Option<Costmap>,
+    dwa: Dwa,
+    goal: Option<Point2>,
+    status: NavStatus,
+    plan: Vec<Pose2>,
+    last_plan: f64,
+    plan_fail_since: Option<f64>,
+    control_fail_since: Option<f64>,
+    progress_mark: (f64, Point2),
+    recoveries: u32,
+    recovery_until: f64,
+}
+
+impl Navigator {
+    /// A navigator with `params`.
+    pub fn new(params: NavParams) -> Self {
+        let dwa = Dwa::new(params.dwa.clone());
+        Self {
+            params,
+            costmap: None,
+            dwa,
+            goal: None,
+            status: NavStatus::Idle,
+            plan: Vec::new(),
+            last_plan: f64::NEG_INFINITY,
+            plan_fail_since: None,
+            control_fail_since: None,
+            progress_mark: (0.0, Point2::default()),
+            recoveries: 0,
+            recovery_until: 0.0,
+        }
+    }
+
+    /// Sets the static map (builds the global costmap).
+    pub fn set_map(&mut self, map: &OccupancyGrid) {
+        self.costmap = Some(Costmap::from_map(map, &self.params.global_costmap));
+    }
+
+    /// Sets a new goal (m) at time `now` (s).
+    pub fn set_goal(&mut self, goal: Point2, now: f64) {
+        self.goal = Some(goal);
+        self.status = NavStatus::Planning;
+        self.plan.clear();
+        self.last_plan = f64::NEG_INFINITY;
+        self.plan_fail_since = None;
+        self.control_fail_since = None;
+        self.recoveries = 0;
+        self.progress_mark = (now, Point2::new(f64::NAN, f64::NAN));
+    }
+
+    /// The current global plan.
+    pub fn plan(&self) -> &[Pose2] {
+        &self.plan
+    }
+    /// The current state.
+    pub fn status(&self) -> NavStatus {
+        self.status
+    }
+    /// The global costmap, once a map is set.
+    pub fn costmap(&self) -> Option<&Costmap> {
+        self.costmap.as_ref()
+    }
+
+    /// One control cycle at time `now` (s) with the robot at `pose` moving at `vel`.
+    pub fn tick(&mut self, now: f64, pose: Pose2, vel: Twist) -> NavCommand {
+        let stop = |status| NavCommand { twist: Twist::default(), status };
+        let (Some(goal), Some(cm)) = (self.goal, self.costmap.as_ref()) else { return stop(NavStatus::Idle) };
+        if matches!(self.status, NavStatus::Succeeded | NavStatus::Aborted | NavStatus::Idle) {
+            return stop(self.status);
+        }
+        let here = pose.position();
+        if here.dist(goal) <= self.params.dwa.xy_goal_tolerance {
+            self.status = NavStatus::Succeeded;
+            return stop(self.status);
+        }
+        if self.progress_mark.1.x.is_nan() {
+            self.progress_mark = (now, here);
+        }
+        let mb = self.params.move_base.clone();
+        if self.status == NavStatus::Recovering {
+            if now < self.recovery_until {
+                return NavCommand { twist: Twist { linear: 0.0, angular: mb.recovery_rotation_speed }, status: self.status };
+            }
+            self.status = NavStatus::Planning;
+            self.last_plan = f64::NEG_INFINITY;
+            self.progress_mark = (now, here);
+        }
+        // Oscillation / no progress.
+        if here.dist(self.progress_mark.1) >= mb.oscillation_distance {
+            self.progress_mark = (now, here);
+        } else if mb.oscillation_timeout > 0.0 && now - self.progress_mark.0 > mb.oscillation_timeout {
+            return self.recover(now, "no progress");
+        }
+        let replan_due = mb.planner_frequency > 0.0 && now - self.last_plan >= 1.0 / mb.planner_frequency;
+        if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
+            match plan(cm, here, goal, &self.params.planner) {
+                Ok(p) => {
+                    self.plan = p;
+                    self.dwa.set_plan(&self.plan);
+                    self.last_plan = now;
+                    self.plan_fail_since = None;
+                    self.status = NavStatus::Controlling;
+                }
+                Err(e) => {
+                    let since = *self.plan_fail_since.get_or_insert(now);
+                    tracing::debug!("planning failed: {e}");
+                    if now - since > mb.planner_patience {
+                        return self.recover(now, "planner patience");
+                    }
+                    self.status = NavStatus::Planning;
+                    return stop(self.status);
+                }
+            }
+        }
+        let cm = self.costmap.as_ref().expect("checked above");
+        match self.dwa.compute_velocity(pose, vel, cm) {
+            Ok(t) => {
+                self.control_fail_since = None;
+                NavCommand { twist: t, status: self.status }
+            }
+            Err(_) => {
+                let since = *self.control_fail_since.get_or_insert(now);
+                if now - since > mb.controller_patience {
+                    return self.recover(now, "controller patience");
+                }
+                // Replan right away: the plan may run through a spot the robot cannot take.
+                self.status = NavStatus::Planning;
+                stop(self.status)
+            }
+        }
+    }
+
+    fn recover(&mut self, now: f64, why: &str) -> NavCommand {
+        self.recoveries += 1;
+        tracing::debug!("recovery {} ({why})", self.recoveries);
+        if self.recoveries > self.params.move_base.max_recoveries {
+            self.status = NavStatus::Aborted;
+            return NavCommand { twist: Twist::default(), status: self.status };
+        }
+        // Rotate in place a full turn, then clear the plan and replan.
+        self.status = NavStatus::Recovering;
+        self.recovery_until = now + std::f64::consts::TAU / self.params.move_base.recovery_rotation_speed;
+        self.plan.clear();
+        self.control_fail_since = None;
+        self.plan_fail_since = None;
+        NavCommand { twist: Twist { linear: 0.0, angular: self.params.move_base.recovery_rotation_speed }, status: self.status }
+    }
+}
+
+/// Loads navigator parameters from a move_base-style YAML text; errors name the dotted field.
+pub fn params_from_yaml(text: &str) -> Result<NavParams, String> {
+    let de = serde_yaml::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| format!("{}: {}", e.path(), e.inner()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn simulate(map: &OccupancyGrid, start: Pose2, goal: Point2, limit_s: f64) -> (NavStatus, Pose2) {
+        let mut nav = Navigator::new(NavParams::default());
+        nav.set_map(map);
+        nav.set_goal(goal, 0.0);
+        let (mut pose, mut vel, dt) = (start, Twist::default(), 0.05);
+        let mut t = 0.0;
+        while t < limit_s {
+            let cmd = nav.tick(t, pose, vel);
+            if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
+                return (cmd.status, pose);
+            }
+            vel = cmd.twist;
+            pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+            t += dt;
+        }
+        (nav.status(), pose)
+    }
+
+    fn room(wall: bool, enclose_goal: bool) -> OccupancyGrid {
+        let mut m = OccupancyGrid::new(100, 100, 0.05, Pose2::default(), 0);
+        for r in 0..100 {
+            for c in 0..100 {
+                let border = c == 0 || r == 0 || c == 99 || r == 99;
+                let mid = wall && c == 50 && r < 75;
+                let cage = enclose_goal && ((c == 70 || c == 90) && (60..=80).contains(&r) || (r == 60 || r == 80) && (70..=90).contains(&c));
+                if border || mid || cage {
+                    m.set(c, r, 100);
+                }
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn reaches_goals_in_the_open_and_around_a_wall() {
+        let (s, p) = simulate(&room(false, false), Pose2::new(1.0, 1.0, 0.0), Point2::new(4.0, 4.0), 60.0);
+        assert_eq!(s, NavStatus::Succeeded, "{p:?}");
+        let (s, p) = simulate(&room(true, false), Pose2::new(1.0, 1.0, -1.0), Point2::new(4.0, 1.0), 120.0);
+        assert_eq!(s, NavStatus::Succeeded, "{p:?}");
+    }
+
+    #[test]
+    fn aborts_when_the_goal_is_enclosed() {
+        let (s, _) = simulate(&room(false, true), Pose2::new(1.0, 1.0, 0.0), Point2::new(4.0, 3.5), 400.0);
+        assert_eq!(s, NavStatus::Aborted);
+    }
+
+    #[test]
+    fn yaml_with_ros_names_loads_and_typos_are_named() {
+        let p = params_from_yaml("global_costmap:\n  inflation_radius: 0.4\nDWAPlannerROS:\n  max_vel_x: 0.3\nmove_base:\n  planner_patience: 2.0\n").unwrap();
+        assert_eq!(p.global_costmap.inflation_radius, 0.4);
+        assert_eq!(p.dwa.max_vel_x, 0.3);
+        let e = params_from_yaml("global_costmap:\n  inflation_radius: wide\n").unwrap_err();
+        assert!(e.contains("global_costmap.inflation_radius"), "{e}");
+    }
+}
