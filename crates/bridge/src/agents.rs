@@ -20,19 +20,24 @@ pub trait DiscreteAgent: Send {
 pub enum AgentKind {
     /// Greedy shortest-path follower (Habitat's ShortestPathFollower).
     Oracle,
+    /// The native navigation stack (costmap, planner, DWA, navigator) with velocity commands.
+    Nav,
 }
 
 impl AgentKind {
-    /// A fresh agent of this kind.
-    pub fn build(self) -> Box<dyn DiscreteAgent> {
+    /// A fresh discrete agent of this kind; `None` for the nav agent, which drives with
+    /// velocities (see `nav_agent`).
+    pub fn build(self) -> Option<Box<dyn DiscreteAgent>> {
         match self {
-            AgentKind::Oracle => Box::new(OracleAgent(ShortestPathFollower::new())),
+            AgentKind::Oracle => Some(Box::new(OracleAgent(ShortestPathFollower::new()))),
+            AgentKind::Nav => None,
         }
     }
     /// The name used on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {
             AgentKind::Oracle => "oracle",
+            AgentKind::Nav => "nav",
         }
     }
 }

@@ -5,4 +5,5 @@
 #![warn(missing_docs)]
 
 pub mod agents;
+pub mod nav_agent;
 pub mod runner;

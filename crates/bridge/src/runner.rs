@@ -29,6 +29,8 @@ pub struct RunConfig {
     pub physics: Option<PhysicsSetup>,
     /// Seed of everything random in a run (odometry noise); episode i uses seed + i.
     pub seed: u64,
+    /// The native navigation stack's setup, for the `nav` agent (which needs physics).
+    pub nav: Option<crate::nav_agent::NavSetup>,
 }
 
 /// What a physics run needs: the scene's shared rigid mesh, the robot and the settings.
@@ -96,11 +98,18 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     match &cfg.physics {
         Some(ph) => {
             let seed = cfg.seed.wrapping_add(index as u64);
-            match PhysicsEnv::new(grid, &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed) {
-                Ok(e) => physics_env = Some(e),
+            match PhysicsEnv::new(grid.clone(), &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed) {
+                Ok(mut e) => {
+                    if let (AgentKind::Nav, Some(setup)) = (cfg.agent, &cfg.nav) {
+                        let goal = ep.goals[0].position.xy();
+                        return crate::nav_agent::run_nav(&mut e, &grid, &ep.episode_id, goal, setup, cfg, t0);
+                    }
+                    physics_env = Some(e)
+                }
                 Err(e) => return invalid(e.to_string()),
             }
         }
+        None if cfg.agent == AgentKind::Nav => return invalid("the nav agent drives with velocities: it needs --physics".into()),
         None => match Env::new(grid, ep, cfg.task.clone()) {
             Ok(e) => plain_env = Some(e),
             Err(e) => return invalid(e.to_string()),
@@ -111,7 +120,9 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         (_, Some(e)) => e,
         _ => unreachable!("one of the two environments was built"),
     };
-    let mut agent = cfg.agent.build();
+    let Some(mut agent) = cfg.agent.build() else {
+        return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));
+    };
     agent.reset();
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     while !env.is_done() {

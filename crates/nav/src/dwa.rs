@@ -6,7 +6,7 @@
 //! towards the path first (ROS DWA would back up or stall); in-place turns are scored by the
 //! heading they reach, not all alike; the xy goal latch is reset whenever a new plan arrives.
 
-use crate::costmap::{Costmap, INSCRIBED};
+use crate::costmap::{Costmap, INSCRIBED, LETHAL};
 use serde::{Deserialize, Serialize};
 use xhab_types::{normalize_angle, Point2, Pose2, Twist};
 
@@ -184,10 +184,13 @@ impl Dwa {
         let dt = p.sim_time / steps as f64;
         let mut q = pose;
         let mut max_cost = 0u8;
+        // A robot that already stands in the inscribed zone (a start close to furniture, the
+        // map's cells being coarser than the geometry) may move through it, never deeper.
+        let start_cost = cm.cost_at(pose.position());
         for _ in 0..steps {
             q = Pose2::new(q.x + v * q.yaw.cos() * dt, q.y + v * q.yaw.sin() * dt, normalize_angle(q.yaw + w * dt));
             let c = cm.cost_at(q.position());
-            if c >= INSCRIBED {
+            if c >= LETHAL || (c >= INSCRIBED && c > start_cost) {
                 return None;
             }
             max_cost = max_cost.max(c);

@@ -77,7 +77,7 @@ pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Res
         }
         let (c, r) = ((m % w) as isize, (m / w) as isize);
         let dm = dist[m];
-        for (dc, dr, len) in [(1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0), (1, 1, 1.4142135623730951), (1, -1, 1.4142135623730951), (-1, 1, 1.4142135623730951), (-1, -1, 1.4142135623730951)] {
+        for (dc, dr, len) in [(1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0), (1, 1, std::f64::consts::SQRT_2), (1, -1, std::f64::consts::SQRT_2), (-1, 1, std::f64::consts::SQRT_2), (-1, -1, std::f64::consts::SQRT_2)] {
             let (kc, kr) = (c + dc, r + dr);
             if kc < 0 || kr < 0 || kc >= w as isize || kr >= h as isize {
                 continue;

@@ -106,11 +106,37 @@ impl PhysicsEnv {
     }
 
     /// Holds `twist` (m/s, rad/s) for `duration` (s), in whole physics steps; updates odometry.
+    /// For velocity agents: the path length grows by the displacement, and once the
+    /// simulated time reaches `max_episode_steps` control periods the episode is over.
     pub fn step_twist(&mut self, twist: Twist, duration: f64) {
         let n = (duration / self.robot.dt()).round().max(0.0) as usize;
         for _ in 0..n {
             self.robot.step_physics(twist);
             self.odom.update(self.robot.pose());
+        }
+    }
+
+    /// One control cycle of a velocity agent: holds `twist` for `duration` (s), counts the
+    /// path, and ends the episode at the time limit (`max_episode_steps` control periods).
+    pub fn drive(&mut self, twist: Twist, duration: f64) {
+        if self.done {
+            return;
+        }
+        let before = self.robot.pose().position();
+        self.step_twist(twist, duration);
+        self.path_length += before.dist(self.robot.pose().position());
+        self.steps = (self.robot.sim_time() / self.config.control_period).ceil() as u32;
+        if self.steps >= self.task.max_episode_steps {
+            self.done = true;
+        }
+    }
+
+    /// A velocity agent calls `stop` (counted as one more step, as Habitat's stop action).
+    pub fn call_stop(&mut self) {
+        if !self.done {
+            self.called_stop = true;
+            self.done = true;
+            self.steps += 1;
         }
     }
 

@@ -151,6 +151,17 @@ pub struct GeodesicArgs {
 pub enum AgentArg {
     /// Greedy shortest-path follower over discrete actions.
     Oracle,
+    /// The native navigation stack (costmap, A*, DWA, navigator) under physics with velocities.
+    Nav,
+}
+
+/// Localisation of the nav agent.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum LocalizationArg {
+    /// Ground truth from the simulator.
+    GroundTruth,
+    /// Wheel odometry alone (drifts).
+    Odom,
 }
 
 /// `xhab bench`.
@@ -186,6 +197,15 @@ pub struct BenchArgs {
     /// Seed of the run's randomness (odometry noise); episode i uses SEED + i.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Localisation of the nav agent.
+    #[arg(long, value_enum, default_value_t = LocalizationArg::GroundTruth, help_heading = "Navigation")]
+    pub localization: LocalizationArg,
+    /// Static map for the nav agent (map_server YAML) [default: the map `xhab map` makes of the scene].
+    #[arg(long, help_heading = "Navigation")]
+    pub map: Option<PathBuf>,
+    /// Navigation parameters (move_base-style YAML with ROS names).
+    #[arg(long, help_heading = "Navigation")]
+    pub nav_params: Option<PathBuf>,
     #[command(flatten)]
     pub physics: PhysicsOpts,
     #[command(flatten)]

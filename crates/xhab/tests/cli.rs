@@ -167,3 +167,27 @@ fn bench_under_physics_reports_sim_time_and_stays_close_to_kinematic() {
     assert!((sk - sp).abs() <= 0.05, "kinematic SPL {sk} vs physics {sp}");
     assert!(a["real_time_factor"].as_f64().unwrap() > 1.0);
 }
+
+#[test]
+fn nav_agent_reaches_goals_under_physics() {
+    let d = tmp("nav");
+    let eps = d.join("e.json.gz");
+    run(&["episodes", "procedural:6", "--count", "6", "--seed", "4", "--out", eps.to_str().unwrap()]);
+    let r = d.join("r.json");
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--out", r.to_str().unwrap(), "--quiet"]);
+    let j = read_json(&r);
+    let a = &j["aggregate"];
+    eprintln!("nav on procedural:6: {a}");
+    assert!(a["success"].as_f64().unwrap() >= 5.0 / 6.0, "{a}");
+    assert!(a["spl"].as_f64().unwrap() >= 0.7, "{a}");
+    assert!(a["real_time_factor"].as_f64().unwrap() > 1.0, "{a}");
+    // A navigation YAML with ROS names is accepted; a typo is named.
+    let y = d.join("nav.yaml");
+    std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: 0.4\nglobal_costmap:\n  inflation_radius: 0.5\n").unwrap();
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", y.to_str().unwrap(), "--quiet"]);
+    std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: fast\n").unwrap();
+    let out = xhab().args(["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", y.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("DWAPlannerROS.max_vel_x") && err.contains("nav.yaml"), "{err}");
+}

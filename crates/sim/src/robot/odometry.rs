@@ -50,7 +50,8 @@ impl WheelOdometry {
         let a = self.last_truth;
         let (dx, dy) = (truth.x - a.x, truth.y - a.y);
         let trans = dx.hypot(dy);
-        let rot1 = if trans < 1e-9 { 0.0 } else { normalize_angle(dy.atan2(dx) - a.yaw) };
+        // As ROS amcl: below 1 cm the direction of travel is noise itself, so take none.
+        let rot1 = if trans < 0.01 { 0.0 } else { normalize_angle(dy.atan2(dx) - a.yaw) };
         let rot2 = normalize_angle(truth.yaw - a.yaw - rot1);
         let n = &self.noise;
         let s_rot1 = (n.alpha1 * rot1 * rot1 + n.alpha2 * trans * trans).sqrt();

@@ -1,6 +1,8 @@
 //! `xhab bench`: an agent on every episode of a dataset; metrics as JSON, CSV and a table.
 
-use crate::cli::{AgentArg, BenchArgs, PhysicsOpts};
+use crate::cli::{AgentArg, BenchArgs, LocalizationArg, PhysicsOpts};
+use xhab_bridge::nav_agent::{Localization, NavSetup};
+use xhab_nav::navigator::{params_from_yaml, NavParams};
 use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
 use crate::report::MapPicture;
 use crate::scene_arg::load_world;
@@ -20,7 +22,10 @@ use xhab_types::Point2;
 
 pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let mut opts = a.scene_opts.clone();
-    if a.physics.physics && opts.agent_radius.is_none() {
+    let mut physics_opts = a.physics.clone();
+    // The nav agent drives with velocities: it always runs under physics.
+    physics_opts.physics |= matches!(a.agent, AgentArg::Nav);
+    if physics_opts.physics && opts.agent_radius.is_none() {
         // Plan for the robot that drives.
         opts.agent_radius = Some(RobotProfile::named_or_file(&a.physics.robot).with_context(|| format!("--robot {}", a.physics.robot))?.radius);
     }
@@ -28,10 +33,15 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let ds = read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
     let agent = match a.agent {
         AgentArg::Oracle => AgentKind::Oracle,
+        AgentArg::Nav => AgentKind::Nav,
     };
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
-    let physics = physics_setup(&world, &a.physics)?;
-    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed };
+    let physics = physics_setup(&world, &physics_opts)?;
+    let nav = match a.agent {
+        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| p.profile.radius))?),
+        AgentArg::Oracle => None,
+    };
+    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav };
     let (report, outcomes) = bench(&world, &ds, &cfg, &a.scene, &a.episodes.display().to_string(), quiet)?;
     if let Some(dir) = &a.trajectories {
         draw_trajectories(&world, &ds, &outcomes, dir)?;
@@ -47,6 +57,32 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     }
     print_table(&report.aggregate, report.invalid.count, agent.name());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The nav agent's setup: parameters (YAML or defaults sized to the robot), map, localisation.
+fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>) -> Result<NavSetup> {
+    let params = match &a.nav_params {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
+        }
+        None => {
+            let mut p = NavParams::default();
+            if let Some(r) = robot_radius {
+                p.global_costmap.robot_radius = r;
+            }
+            p
+        }
+    };
+    let map = match &a.map {
+        Some(m) => Some(Arc::new(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0)),
+        None => None,
+    };
+    let localization = match a.localization {
+        LocalizationArg::GroundTruth => Localization::GroundTruth,
+        LocalizationArg::Odom => Localization::Odom,
+    };
+    Ok(NavSetup { params, map, localization })
 }
 
 /// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.

@@ -1,0 +1,69 @@
+//! The native navigation stack as an agent: the move_base-like navigator drives the physics
+//! simulator with velocity commands (controller at 1 / controller_period Hz), localised by
+//! ground truth or by wheel odometry alone.
+
+use crate::runner::{EpisodeRun, Outcome, RunConfig};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use std::time::Instant;
+use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
+use xhab_sim::env::DiscreteEnv;
+use xhab_sim::navgrid::NavGrid;
+use xhab_sim::physics_env::PhysicsEnv;
+use xhab_types::{OccupancyGrid, Pose2};
+
+/// Where the navigator believes the robot is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Localization {
+    /// The simulator's ground truth.
+    GroundTruth,
+    /// Integrated wheel odometry with noise (drifts).
+    Odom,
+}
+
+/// What the nav agent needs beyond the run config.
+#[derive(Debug, Clone)]
+pub struct NavSetup {
+    /// Navigator parameters.
+    pub params: NavParams,
+    /// The static map (`None`: the map of the episode's floor, as `xhab map` makes it).
+    pub map: Option<Arc<OccupancyGrid>>,
+    /// Localisation source.
+    pub localization: Localization,
+}
+
+/// Runs one episode with the navigator on `env` (already reset), returning its outcome.
+pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
+    let mut nav = Navigator::new(setup.params.clone());
+    match &setup.map {
+        Some(m) => nav.set_map(m),
+        None => nav.set_map(&grid.occupancy_grid()),
+    }
+    nav.set_goal(goal, 0.0);
+    let period = setup.params.dwa.controller_period.max(1e-3);
+    let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
+    while !env.is_done() {
+        let pose: Pose2 = match setup.localization {
+            Localization::GroundTruth => env.pose(),
+            Localization::Odom => env.odometry(),
+        };
+        let cmd = nav.tick(env.sim_s(), pose, env.robot().twist());
+        match cmd.status {
+            NavStatus::Succeeded => env.call_stop(),
+            NavStatus::Aborted => break,
+            _ => env.drive(cmd.twist, period),
+        }
+        if let Some(t) = traj.as_mut() {
+            t.push(env.pose());
+        }
+    }
+    Outcome::Ran(EpisodeRun {
+        episode_id: ep_id.to_string(),
+        metrics: env.metrics(),
+        wall_s: t0.elapsed().as_secs_f64(),
+        trajectory: traj,
+        sim_s: Some(env.sim_s()),
+        stuck: Some(env.stuck() || nav.status() == NavStatus::Aborted),
+    })
+}
