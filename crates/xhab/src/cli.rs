@@ -35,6 +35,8 @@ pub enum Command {
     Bench(BenchArgs),
     /// Measure speed on a scene and print the figures (JSON with --json).
     Perf(PerfArgs),
+    /// Run the native navigation stack once from a start to a goal and draw it.
+    Navigate(NavigateArgs),
     /// Scene tools.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -227,6 +229,36 @@ pub struct PhysicsOpts {
     /// Physics steps per simulated second.
     #[arg(long, default_value_t = 60.0, help_heading = "Physics")]
     pub steps_per_sec: f64,
+}
+
+/// `xhab navigate`.
+#[derive(Debug, Args)]
+pub struct NavigateArgs {
+    /// The scene.
+    pub scene: String,
+    /// Static map (map_server YAML) [default: the map `xhab map` makes of the scene].
+    #[arg(long)]
+    pub map: Option<PathBuf>,
+    /// Start X,Y,YAW (world/map frame: m, m, rad).
+    #[arg(long, allow_hyphen_values = true)]
+    pub start: String,
+    /// Goal X,Y (world/map frame, m).
+    #[arg(long, allow_hyphen_values = true)]
+    pub goal: String,
+    /// Picture of the run (PNG).
+    #[arg(long, default_value = "navigate.png")]
+    pub out: PathBuf,
+    /// Navigation parameters (move_base-style YAML with ROS names).
+    #[arg(long)]
+    pub nav_params: Option<PathBuf>,
+    /// Robot profile name or .yaml file.
+    #[arg(long, default_value = "habitat")]
+    pub robot: String,
+    /// Time limit (simulated s).
+    #[arg(long, default_value_t = 500.0)]
+    pub time_limit: f64,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
 }
 
 /// `xhab perf`.

@@ -5,6 +5,7 @@ mod demo;
 mod episodes;
 mod geodesic;
 mod map;
+mod navigate;
 mod perf;
 mod scene;
 
@@ -22,6 +23,7 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Geodesic(a) => geodesic::run(a),
         Command::Bench(a) => bench::run(a, cli.quiet),
         Command::Perf(a) => perf::run(a),
+        Command::Navigate(a) => navigate::run(a),
         Command::Scene(c) => scene::run(c),
     }
 }
