@@ -4,7 +4,7 @@ use crate::action::Action;
 use crate::episode::Episode;
 use crate::geodesic::GeodesicField;
 use crate::kinematic::try_step;
-use crate::metrics::{spl, EpisodeMetrics};
+use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -224,19 +224,7 @@ impl DiscreteEnv for Env {
     /// The metrics so far (final once the episode is done).
     fn metrics(&self) -> EpisodeMetrics {
         let dtg = self.distance_to_goal();
-        let success = self.called_stop && dtg < self.config.success_distance;
-        let (spl, soft_spl) = spl(success, self.d0, self.path_length, dtg);
-        EpisodeMetrics {
-            success: if success { 1.0 } else { 0.0 },
-            spl,
-            soft_spl,
-            distance_to_goal: dtg,
-            steps: self.steps,
-            collisions: self.collisions,
-            path_length: self.path_length,
-            start_distance: self.d0,
-            called_stop: self.called_stop,
-        }
+        EpisodeMetrics::new(self.config.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions)
     }
 
     /// Whether the episode is over.

@@ -25,6 +25,26 @@ pub struct EpisodeMetrics {
     pub called_stop: bool,
 }
 
+impl EpisodeMetrics {
+    /// The metrics of an episode from its state: whether stop was called, the final distance
+    /// to goal `dtg`, d0 and the path length P (m), and the counts.
+    pub fn new(success_distance: f64, called_stop: bool, dtg: f64, d0: f64, path_length: f64, steps: u32, collisions: u32) -> Self {
+        let success = called_stop && dtg < success_distance;
+        let (spl, soft_spl) = spl(success, d0, path_length, dtg);
+        EpisodeMetrics {
+            success: if success { 1.0 } else { 0.0 },
+            spl,
+            soft_spl,
+            distance_to_goal: dtg,
+            steps,
+            collisions,
+            path_length,
+            start_distance: d0,
+            called_stop,
+        }
+    }
+}
+
 /// SPL and soft SPL from their ingredients (m).
 pub fn spl(success: bool, d0: f64, path_length: f64, dtg: f64) -> (f64, f64) {
     let ratio = if d0 <= 0.0 { 1.0 } else { d0 / d0.max(path_length) };

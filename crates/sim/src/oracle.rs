@@ -87,13 +87,18 @@ impl ShortestPathFollower {
             }
         }
         match best {
-            Some((_, 0)) => Action::MoveForward,
-            Some((_, k)) => {
-                self.detour = Some(normalize_angle(yaw + k as f64 * turn));
-                if k > 0 { Action::TurnLeft } else { Action::TurnRight }
-            }
+            Some((_, k)) => self.take_heading(k, yaw, turn),
             None => self.two_moves(env, d),
         }
+    }
+
+    /// Moves forward (k = 0) or starts turning to `yaw + k * turn`, remembering the target.
+    fn take_heading(&mut self, k: i64, yaw: f64, turn: f64) -> Action {
+        if k == 0 {
+            return Action::MoveForward;
+        }
+        self.detour = Some(normalize_angle(yaw + k as f64 * turn));
+        if k > 0 { Action::TurnLeft } else { Action::TurnRight }
     }
 
     /// No single move helps (a move overshoots past a corner): the best first heading of two
@@ -118,11 +123,7 @@ impl ShortestPathFollower {
             }
         }
         match best {
-            Some((_, 0)) => Action::MoveForward,
-            Some((_, k)) => {
-                self.detour = Some(normalize_angle(yaw + k as f64 * turn));
-                if k > 0 { Action::TurnLeft } else { Action::TurnRight }
-            }
+            Some((_, k)) => self.take_heading(k, yaw, turn),
             None => Action::TurnLeft,
         }
     }

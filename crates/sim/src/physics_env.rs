@@ -6,7 +6,7 @@ use crate::action::Action;
 use crate::env::{observation, prepare, DiscreteEnv, InvalidEpisode, Observation, Prepared, StepResult, TaskConfig};
 use crate::episode::Episode;
 use crate::geodesic::GeodesicField;
-use crate::metrics::{spl, EpisodeMetrics};
+use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
 use crate::robot::{OdometryNoise, PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, RobotProfile, WheelOdometry};
 use serde::{Deserialize, Serialize};
@@ -208,19 +208,7 @@ impl DiscreteEnv for PhysicsEnv {
 
     fn metrics(&self) -> EpisodeMetrics {
         let dtg = self.distance_to_goal();
-        let success = self.called_stop && dtg < self.task.success_distance;
-        let (spl, soft_spl) = spl(success, self.d0, self.path_length, dtg);
-        EpisodeMetrics {
-            success: if success { 1.0 } else { 0.0 },
-            spl,
-            soft_spl,
-            distance_to_goal: dtg,
-            steps: self.steps,
-            collisions: self.collisions,
-            path_length: self.path_length,
-            start_distance: self.d0,
-            called_stop: self.called_stop,
-        }
+        EpisodeMetrics::new(self.task.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions)
     }
 
     fn pose(&self) -> Pose2 {
