@@ -7,7 +7,6 @@
 
 pub mod costmap;
 pub mod dwa;
-pub mod map_io;
 pub mod map_server;
 pub mod navigator;
 pub mod planner;

@@ -1,6 +1,5 @@
 //! PointNav episodes: the data model, Habitat's dataset files and the episode generator.
 
-pub mod dataset;
 mod generator;
 mod habitat_json;
 mod types;

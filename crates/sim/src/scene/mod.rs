@@ -48,13 +48,6 @@ impl Default for LoadOptions {
     }
 }
 
-mod glb_writer;
-mod gltf;
-mod load;
-mod obj;
-mod ply;
-pub mod procedural;
-
 mod from_gltf;
 mod from_obj;
 mod from_ply;
