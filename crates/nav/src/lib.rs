@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod costmap;
+pub mod depth_to_scan;
 pub mod dwa;
 pub mod map_server;
 pub mod navigator;

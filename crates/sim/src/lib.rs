@@ -21,3 +21,5 @@ pub mod oracle;
 pub mod world;
 pub mod robot;
 pub mod physics_env;
+pub mod sensors;
+mod gaussian;

@@ -6,8 +6,10 @@
 
 mod geometry;
 mod grid;
+mod sensor;
 mod twist;
 
 pub use geometry::{normalize_angle, Point2, Point3, Pose2};
 pub use grid::{OccupancyGrid, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
+pub use sensor::{DepthImage, Intrinsics, LaserScan};
 pub use twist::Twist;

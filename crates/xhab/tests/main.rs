@@ -2,3 +2,4 @@
 mod common;
 mod cli;
 mod map_vs_slam;
+mod sensors;

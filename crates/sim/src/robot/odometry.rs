@@ -4,7 +4,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rand_distr_free::gaussian;
+use crate::gaussian::gaussian;
 use serde::{Deserialize, Serialize};
 use xhab_types::{normalize_angle, Pose2};
 
@@ -69,18 +69,6 @@ impl WheelOdometry {
     /// The current odometry pose.
     pub fn pose(&self) -> Pose2 {
         self.estimate
-    }
-}
-
-/// Standard normal samples without an extra dependency (Box-Muller on the seeded stream).
-mod rand_distr_free {
-    use rand::Rng;
-
-    /// One sample of N(0, 1).
-    pub fn gaussian(rng: &mut impl Rng) -> f64 {
-        let u1: f64 = rng.gen_range(f64::MIN_POSITIVE..1.0);
-        let u2: f64 = rng.gen();
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
     }
 }
 

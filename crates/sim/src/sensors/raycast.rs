@@ -1,0 +1,41 @@
+//! The scene as a parry3d triangle mesh with its BVH, for ray casting (CPU reference path).
+
+use crate::scene::Scene;
+use parry3d::math::Vector;
+use parry3d::query::{Ray, RayCast};
+use parry3d::shape::{TriMesh, TriMeshFlags};
+
+/// The scene's triangles for ray queries, built once and shared (it is `Sync`).
+pub struct RayScene {
+    mesh: TriMesh,
+}
+
+impl std::fmt::Debug for RayScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "RayScene({} triangles)", self.mesh.indices().len())
+    }
+}
+
+impl RayScene {
+    /// Builds the mesh and its BVH; `None` for a scene without triangles.
+    pub fn new(scene: &Scene) -> Option<RayScene> {
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
+        for m in &scene.meshes {
+            let base = vertices.len() as u32;
+            vertices.extend(m.positions.iter().map(|p| Vector::new(p[0], p[1], p[2])));
+            indices.extend(m.indices.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        }
+        TriMesh::with_flags(vertices, indices, TriMeshFlags::empty()).ok().map(|mesh| RayScene { mesh })
+    }
+
+    /// Distance along `dir` (in units of `dir`'s length) to the first hit from `origin`,
+    /// up to `max_t`; both faces count.
+    pub fn cast(&self, origin: [f64; 3], dir: [f64; 3], max_t: f64) -> Option<f64> {
+        let ray = Ray::new(
+            Vector::new(origin[0] as f32, origin[1] as f32, origin[2] as f32),
+            Vector::new(dir[0] as f32, dir[1] as f32, dir[2] as f32),
+        );
+        self.mesh.cast_local_ray(&ray, max_t as f32, false).map(|t| t as f64)
+    }
+}
