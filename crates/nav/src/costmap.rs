@@ -103,8 +103,8 @@ impl Costmap {
     }
 }
 
-/// Distance (in cells) from each cell centre to the nearest `true` cell centre.
-pub(crate) fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f64> {
+/// Distance (in cells) from each cell centre to the nearest `true` cell centre (exact EDT).
+pub fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f64> {
     const INF: f64 = 1e20;
     let mut f: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { INF }).collect();
     let n = w.max(h);

@@ -10,4 +10,5 @@ pub mod depth_to_scan;
 pub mod dwa;
 pub mod map_server;
 pub mod navigator;
+pub mod obstacle_layer;
 pub mod planner;

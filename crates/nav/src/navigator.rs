@@ -1,7 +1,8 @@
 //! A move_base-like navigator: plan, control, recover (clear and replan, rotate in place),
 //! abort. Driven by explicit calls with the simulated time; it never reads a clock.
 
-use crate::costmap::{Costmap, CostmapParams};
+use crate::costmap::{Costmap, CostmapParams, LETHAL};
+use crate::obstacle_layer::{ObstacleLayer, ObstacleParams};
 use crate::dwa::{Dwa, DwaParams};
 use crate::planner::{plan, PlannerParams};
 use serde::{Deserialize, Serialize};
@@ -21,6 +22,8 @@ pub struct NavParams {
     /// Local planner.
     #[serde(rename = "DWAPlannerROS")]
     pub dwa: DwaParams,
+    /// Obstacle layer and rolling local costmap (used once scans arrive).
+    pub obstacle_layer: ObstacleParams,
 }
 
 /// move_base's own parameters.
@@ -90,6 +93,9 @@ pub struct Navigator {
     /// Parameters.
     pub params: NavParams,
     costmap: Option<Costmap>,
+    /// The static layer inflated alone (the global costmap is rebuilt from it and the marks).
+    static_costmap: Option<Costmap>,
+    obstacles: Option<ObstacleLayer>,
     dwa: Dwa,
     goal: Option<Point2>,
     status: NavStatus,
@@ -109,6 +115,8 @@ impl Navigator {
         Self {
             params,
             costmap: None,
+            static_costmap: None,
+            obstacles: None,
             dwa,
             goal: None,
             status: NavStatus::Idle,
@@ -124,7 +132,28 @@ impl Navigator {
 
     /// Sets the static map (builds the global costmap).
     pub fn set_map(&mut self, map: &OccupancyGrid) {
-        self.costmap = Some(Costmap::from_map(map, &self.params.global_costmap));
+        let cm = Costmap::from_map(map, &self.params.global_costmap);
+        self.obstacles = None;
+        self.static_costmap = Some(cm.clone());
+        self.costmap = Some(cm);
+    }
+
+    /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
+    /// obstacle layer; from then on the controller works on the rolling local costmap.
+    pub fn add_scan(&mut self, scan: &xhab_types::LaserScan, sensor: Pose2) {
+        let Some(st) = &self.static_costmap else { return };
+        let params = self.params.obstacle_layer.clone();
+        self.obstacles.get_or_insert_with(|| ObstacleLayer::new(st, params)).update(scan, sensor);
+    }
+
+    /// The global costmap with the obstacle layer's marks, re-inflated.
+    fn refresh_global(&mut self) {
+        let (Some(st), Some(ob)) = (&self.static_costmap, &self.obstacles) else { return };
+        let lethal: Vec<bool> = st.cost.iter().enumerate().map(|(i, &c)| c == LETHAL || ob.is_marked(i)).collect();
+        let d = crate::costmap::edt(&lethal, st.width, st.height);
+        let p = &self.params.global_costmap;
+        let cost = (0..lethal.len()).map(|i| if lethal[i] { LETHAL } else { crate::costmap::inflation_cost(d[i] * st.resolution, p).max(st.cost[i]) }).collect();
+        self.costmap = Some(Costmap { cost, ..st.clone() });
     }
 
     /// Sets a new goal (m) at time `now` (s).
@@ -184,6 +213,8 @@ impl Navigator {
         }
         let replan_due = mb.planner_frequency > 0.0 && now - self.last_plan >= 1.0 / mb.planner_frequency;
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
+            self.refresh_global();
+            let cm = self.costmap.as_ref().expect("checked above");
             match plan(cm, here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
@@ -203,7 +234,14 @@ impl Navigator {
                 }
             }
         }
-        let cm = self.costmap.as_ref().expect("checked above");
+        let local;
+        let cm = match (&self.obstacles, &self.static_costmap) {
+            (Some(ob), Some(st)) => {
+                local = ob.local_costmap(st, here, &self.params.global_costmap);
+                &local
+            }
+            _ => self.costmap.as_ref().expect("checked above"),
+        };
         match self.dwa.compute_velocity(pose, vel, cm) {
             Ok(t) => {
                 self.control_fail_since = None;
@@ -234,6 +272,10 @@ impl Navigator {
         self.plan.clear();
         self.control_fail_since = None;
         self.plan_fail_since = None;
+        // Clear the costmaps' obstacle marks, as move_base's first recovery.
+        if let Some(ob) = self.obstacles.as_mut() {
+            ob.reset();
+        }
         NavCommand { twist: Twist { linear: 0.0, angular: self.params.move_base.recovery_rotation_speed }, status: self.status }
     }
 }
@@ -287,6 +329,61 @@ mod tests {
         assert_eq!(s, NavStatus::Succeeded, "{p:?}");
         let (s, p) = simulate(&room(true, false), Pose2::new(1.0, 1.0, -1.0), Point2::new(4.0, 1.0), 120.0);
         assert_eq!(s, NavStatus::Succeeded, "{p:?}");
+    }
+
+    /// A scan of `hidden` (occupied cells) from `pose` by marching rays.
+    fn fake_scan(hidden: &OccupancyGrid, pose: Pose2) -> xhab_types::LaserScan {
+        let n = 180;
+        let inc = std::f64::consts::TAU / n as f64;
+        let ranges = (0..n)
+            .map(|i| {
+                let a = pose.yaw - std::f64::consts::PI + i as f64 * inc;
+                let mut d = 0.0;
+                while d < 3.5 {
+                    let p = Point2::new(pose.x + d * a.cos(), pose.y + d * a.sin());
+                    if hidden.world_to_cell(p).is_some_and(|(c, r)| hidden.get(c, r) == 100) {
+                        return d as f32;
+                    }
+                    d += 0.01;
+                }
+                f32::NAN
+            })
+            .collect();
+        xhab_types::LaserScan { angle_min: -std::f64::consts::PI, angle_max: std::f64::consts::PI - inc, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges }
+    }
+
+    #[test]
+    fn avoids_an_obstacle_missing_from_the_map_with_scans() {
+        let map = room(false, false);
+        let mut hidden = map.clone();
+        // A 1 m x 0.4 m box across the straight line from start to goal.
+        for r in 40..60 {
+            for c in 48..56 {
+                hidden.set(c, r, 100);
+            }
+        }
+        let mut nav = Navigator::new(NavParams::default());
+        nav.set_map(&map);
+        let (mut pose, mut vel, dt) = (Pose2::new(1.0, 2.5, 0.0), Twist::default(), 0.05);
+        nav.set_goal(Point2::new(4.0, 2.5), 0.0);
+        let mut t: f64 = 0.0;
+        let mut status = NavStatus::Planning;
+        while t < 120.0 {
+            if ((t / dt).round() as i64) % 2 == 0 {
+                nav.add_scan(&fake_scan(&hidden, pose), pose);
+            }
+            let cmd = nav.tick(t, pose, vel);
+            status = cmd.status;
+            if matches!(status, NavStatus::Succeeded | NavStatus::Aborted) {
+                break;
+            }
+            vel = cmd.twist;
+            pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+            let (c, r) = hidden.world_to_cell(pose.position()).unwrap();
+            assert_ne!(hidden.get(c, r), 100, "drove into the unmapped box at {pose:?}");
+            t += dt;
+        }
+        assert_eq!(status, NavStatus::Succeeded, "{pose:?}");
     }
 
     #[test]
