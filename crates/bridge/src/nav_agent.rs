@@ -10,6 +10,7 @@ use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
 use xhab_sim::env::DiscreteEnv;
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
+use xhab_sim::sensors::{Lidar, LidarParams, RayScene};
 use xhab_types::{OccupancyGrid, Pose2};
 
 /// Where the navigator believes the robot is.
@@ -31,6 +32,10 @@ pub struct NavSetup {
     pub map: Option<Arc<OccupancyGrid>>,
     /// Localisation source.
     pub localization: Localization,
+    /// The planar lidar feeding the obstacle layer (scene for ray casting, parameters), if any.
+    pub lidar: Option<(Arc<RayScene>, LidarParams)>,
+    /// Scan period (s, default 0.1 = 10 Hz).
+    pub scan_period: f64,
 }
 
 /// Runs one episode with the navigator on `env` (already reset), returning its outcome.
@@ -43,11 +48,21 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
     nav.set_goal(goal, 0.0);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
+    let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));
+    let mut next_scan = 0.0;
     while !env.is_done() {
         let pose: Pose2 = match setup.localization {
             Localization::GroundTruth => env.pose(),
             Localization::Odom => env.odometry(),
         };
+        if let Some((rs, l)) = lidar.as_mut() {
+            if env.sim_s() + 1e-9 >= next_scan {
+                // Taken where the robot is, placed where it believes it is.
+                let scan = l.scan(rs, env.pose(), grid.floor_z);
+                nav.add_scan(&scan, pose);
+                next_scan += setup.scan_period;
+            }
+        }
         let cmd = nav.tick(env.sim_s(), pose, env.robot().twist());
         match cmd.status {
             NavStatus::Succeeded => env.call_stop(),

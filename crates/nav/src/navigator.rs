@@ -184,7 +184,7 @@ impl Navigator {
     /// One control cycle at time `now` (s) with the robot at `pose` moving at `vel`.
     pub fn tick(&mut self, now: f64, pose: Pose2, vel: Twist) -> NavCommand {
         let stop = |status| NavCommand { twist: Twist::default(), status };
-        let (Some(goal), Some(cm)) = (self.goal, self.costmap.as_ref()) else { return stop(NavStatus::Idle) };
+        let (Some(goal), Some(_)) = (self.goal, self.costmap.as_ref()) else { return stop(NavStatus::Idle) };
         if matches!(self.status, NavStatus::Succeeded | NavStatus::Aborted | NavStatus::Idle) {
             return stop(self.status);
         }

@@ -208,6 +208,9 @@ pub struct BenchArgs {
     /// Navigation parameters (move_base-style YAML with ROS names).
     #[arg(long, help_heading = "Navigation")]
     pub nav_params: Option<PathBuf>,
+    /// Run the nav agent without its planar lidar (static map only, no obstacle layer).
+    #[arg(long, help_heading = "Navigation")]
+    pub no_scans: bool,
     #[command(flatten)]
     pub physics: PhysicsOpts,
     #[command(flatten)]

@@ -15,6 +15,7 @@ use std::sync::Arc;
 use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, PhysicsSetup, RunConfig};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
+use xhab_sim::sensors::{LidarParams, RayScene};
 use xhab_sim::env::TaskConfig;
 use xhab_sim::episode::{read_dataset, Dataset};
 use xhab_sim::world::World;
@@ -38,7 +39,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
     let physics = physics_setup(&world, &physics_opts)?;
     let nav = match a.agent {
-        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| p.profile.radius))?),
+        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| p.profile.radius), &world)?),
         AgentArg::Oracle => None,
     };
     let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav };
@@ -60,7 +61,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
 }
 
 /// The nav agent's setup: parameters (YAML or defaults sized to the robot), map, localisation.
-fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>) -> Result<NavSetup> {
+fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>, world: &World) -> Result<NavSetup> {
     let params = match &a.nav_params {
         Some(p) => {
             let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
@@ -82,7 +83,13 @@ fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>) -> Result<NavSetup> {
         LocalizationArg::GroundTruth => Localization::GroundTruth,
         LocalizationArg::Odom => Localization::Odom,
     };
-    Ok(NavSetup { params, map, localization })
+    let lidar = if a.no_scans {
+        None
+    } else {
+        let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
+        Some((Arc::new(rs), LidarParams::default()))
+    };
+    Ok(NavSetup { params, map, localization, lidar, scan_period: 0.1 })
 }
 
 /// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.

@@ -56,7 +56,14 @@ pub fn run(a: &NavigateArgs) -> Result<ExitCode> {
     };
     let physics = PhysicsSetup { scene: Arc::new(PhysicsScene::new(&world.scene)?), profile, config: PhysicsConfig::default() };
     let task = TaskConfig { max_episode_steps: (a.time_limit / physics.config.control_period).ceil() as u32, ..Default::default() };
-    let nav = NavSetup { params: params.clone(), map: Some(Arc::new(map.clone())), localization: Localization::GroundTruth };
+    let rs = xhab_sim::sensors::RayScene::new(&world.scene).context("the scene has no triangles")?;
+    let nav = NavSetup {
+        params: params.clone(),
+        map: Some(Arc::new(map.clone())),
+        localization: Localization::GroundTruth,
+        lidar: Some((Arc::new(rs), xhab_sim::sensors::LidarParams::default())),
+        scan_period: 0.1,
+    };
     let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, physics: Some(physics), seed: 0, nav: Some(nav) };
     let outcome = run_episode(&world, &ep, 0, &cfg);
     let mut pic = MapPicture::new(&map);
