@@ -27,11 +27,52 @@ pub struct CostmapParams {
     pub lethal_cost_threshold: i8,
     /// Treat unknown cells as unknown (true) or as free (false, default), as ROS track_unknown_space.
     pub track_unknown_space: bool,
+    /// Footprint polygon in the base frame (m); empty for a round robot of `robot_radius`.
+    pub footprint: Vec<[f64; 2]>,
+    /// Padding added around the footprint (m, default 0).
+    pub footprint_padding: f64,
+}
+
+impl CostmapParams {
+    /// Inscribed radius (m): `robot_radius`, or the distance from the base origin to the
+    /// nearest edge of the (padded) footprint polygon.
+    pub fn inscribed_radius(&self) -> f64 {
+        if self.footprint.len() < 3 {
+            return self.robot_radius + self.footprint_padding;
+        }
+        let n = self.footprint.len();
+        (0..n)
+            .map(|i| {
+                let (a, b) = (self.footprint[i], self.footprint[(i + 1) % n]);
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l2 = d[0] * d[0] + d[1] * d[1];
+                let t = if l2 > 0.0 { (-(a[0] * d[0] + a[1] * d[1]) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                (a[0] + t * d[0]).hypot(a[1] + t * d[1])
+            })
+            .fold(f64::INFINITY, f64::min)
+            + self.footprint_padding
+    }
+
+    /// Circumscribed radius (m): the farthest footprint vertex (or `robot_radius`).
+    pub fn circumscribed_radius(&self) -> f64 {
+        if self.footprint.len() < 3 {
+            return self.robot_radius + self.footprint_padding;
+        }
+        self.footprint.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max) + self.footprint_padding
+    }
 }
 
 impl Default for CostmapParams {
     fn default() -> Self {
-        Self { robot_radius: 0.1, inflation_radius: 0.55, cost_scaling_factor: 10.0, lethal_cost_threshold: 65, track_unknown_space: false }
+        Self {
+            robot_radius: 0.1,
+            inflation_radius: 0.55,
+            cost_scaling_factor: 10.0,
+            lethal_cost_threshold: 65,
+            track_unknown_space: false,
+            footprint: Vec::new(),
+            footprint_padding: 0.0,
+        }
     }
 }
 
@@ -52,14 +93,15 @@ pub struct Costmap {
 
 /// ROS inflation cost at distance `d` (m) from an obstacle.
 pub fn inflation_cost(d: f64, p: &CostmapParams) -> u8 {
+    let inscribed = p.inscribed_radius();
     if d <= 0.0 {
         LETHAL
-    } else if d <= p.robot_radius {
+    } else if d <= inscribed {
         INSCRIBED
     } else if d > p.inflation_radius {
         FREE
     } else {
-        (252.0 * (-p.cost_scaling_factor * (d - p.robot_radius)).exp()).floor() as u8
+        (252.0 * (-p.cost_scaling_factor * (d - inscribed)).exp()).floor() as u8
     }
 }
 
@@ -182,6 +224,10 @@ mod tests {
         // 252 * exp(-10 * 0.1) = 92.7
         assert_eq!(inflation_cost(0.2, &p), 92);
         assert_eq!(inflation_cost(0.56, &p), FREE);
+        // A 0.4 x 0.3 m rectangle: inscribed 0.15, circumscribed 0.25.
+        let rect = CostmapParams { footprint: vec![[-0.2, -0.15], [0.2, -0.15], [0.2, 0.15], [-0.2, 0.15]], ..Default::default() };
+        assert!((rect.inscribed_radius() - 0.15).abs() < 1e-12 && (rect.circumscribed_radius() - 0.25).abs() < 1e-12);
+        assert_eq!(inflation_cost(0.14, &rect), INSCRIBED);
         let mut last = 255;
         for k in 0..60 {
             let c = inflation_cost(k as f64 * 0.01, &p);

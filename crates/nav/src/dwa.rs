@@ -91,6 +91,9 @@ pub enum ControlError {
 pub struct Dwa {
     /// Parameters.
     pub params: DwaParams,
+    /// Footprint polygon in the base frame (m); empty for a round robot (the costmap's
+    /// inscribed radius then decides collisions alone).
+    pub footprint: Vec<[f64; 2]>,
     plan: Vec<Pose2>,
     /// Index of the plan point nearest to the robot (only moves forward).
     progress: usize,
@@ -100,7 +103,7 @@ pub struct Dwa {
 impl Dwa {
     /// A controller with `params`.
     pub fn new(params: DwaParams) -> Self {
-        Self { params, plan: Vec::new(), progress: 0, xy_latched: false }
+        Self { params, footprint: Vec::new(), plan: Vec::new(), progress: 0, xy_latched: false }
     }
 
     /// Follows a new plan (resets the goal latch).
@@ -177,6 +180,24 @@ impl Dwa {
         best.map(|b| b.1).ok_or(ControlError::NoValidTrajectory)
     }
 
+    /// Whether no edge of the footprint at `q` crosses a lethal cell (round robots: true).
+    fn footprint_clear(&self, q: Pose2, cm: &Costmap) -> bool {
+        let n = self.footprint.len();
+        if n < 3 {
+            return true;
+        }
+        let (s, c) = q.yaw.sin_cos();
+        let world = |v: [f64; 2]| Point2::new(q.x + c * v[0] - s * v[1], q.y + s * v[0] + c * v[1]);
+        (0..n).all(|i| {
+            let (a, b) = (world(self.footprint[i]), world(self.footprint[(i + 1) % n]));
+            let k = (a.dist(b) / (cm.resolution * 0.5)).ceil().max(1.0) as usize;
+            (0..=k).all(|j| {
+                let t = j as f64 / k as f64;
+                cm.cost_at(Point2::new(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y))) < LETHAL
+            })
+        })
+    }
+
     /// Cost of the rollout at (v, w): lower is better; `None` when it hits an obstacle.
     fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, window: &[Pose2], lg: Point2) -> Option<f64> {
         let p = &self.params;
@@ -190,7 +211,7 @@ impl Dwa {
         for _ in 0..steps {
             q = Pose2::new(q.x + v * q.yaw.cos() * dt, q.y + v * q.yaw.sin() * dt, normalize_angle(q.yaw + w * dt));
             let c = cm.cost_at(q.position());
-            if c >= LETHAL || (c >= INSCRIBED && c > start_cost) {
+            if c >= LETHAL || (c >= INSCRIBED && c > start_cost) || !self.footprint_clear(q, cm) {
                 return None;
             }
             max_cost = max_cost.max(c);
@@ -255,6 +276,24 @@ mod tests {
         let t = d.compute_velocity(Pose2::new(2.0, 2.5, 0.3), Twist::default(), &cm).unwrap();
         assert_eq!(t.linear, 0.0);
         assert!(t.angular > 0.0, "turns left, the short way: {t:?}");
+    }
+
+    #[test]
+    fn a_long_footprint_keeps_its_corners_off_the_wall() {
+        let cm = open(true);
+        let mut d = Dwa::new(DwaParams::default());
+        // A 1.2 m long robot whose nose would reach the wall well before its centre does.
+        d.footprint = vec![[-0.1, -0.1], [0.6, -0.1], [0.6, 0.1], [-0.1, 0.1]];
+        d.set_plan(&straight(Point2::new(2.0, 2.5), Point2::new(4.0, 2.5)));
+        let mut pose = Pose2::new(2.0, 2.5, 0.0);
+        let mut vel = Twist::default();
+        for _ in 0..100 {
+            let Ok(t) = d.compute_velocity(pose, vel, &cm) else { break };
+            vel = t;
+            pose = Pose2::new(pose.x + t.linear * pose.yaw.cos() * 0.05, pose.y + t.linear * pose.yaw.sin() * 0.05, pose.yaw + t.angular * 0.05);
+        }
+        // The wall is at x = 3.0: the nose (0.6 m ahead) must stay short of it.
+        assert!(pose.x + 0.6 * pose.yaw.cos() < 3.0, "{pose:?}");
     }
 
     #[test]

@@ -111,7 +111,8 @@ pub struct Navigator {
 impl Navigator {
     /// A navigator with `params`.
     pub fn new(params: NavParams) -> Self {
-        let dwa = Dwa::new(params.dwa.clone());
+        let mut dwa = Dwa::new(params.dwa.clone());
+        dwa.footprint = params.global_costmap.footprint.clone();
         Self {
             params,
             costmap: None,

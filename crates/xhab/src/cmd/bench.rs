@@ -39,7 +39,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
     let physics = physics_setup(&world, &physics_opts)?;
     let nav = match a.agent {
-        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| p.profile.radius), &world)?),
+        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| &p.profile), &world)?),
         AgentArg::Oracle => None,
     };
     let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav };
@@ -61,7 +61,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
 }
 
 /// The nav agent's setup: parameters (YAML or defaults sized to the robot), map, localisation.
-fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>, world: &World) -> Result<NavSetup> {
+fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World) -> Result<NavSetup> {
     let params = match &a.nav_params {
         Some(p) => {
             let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
@@ -69,8 +69,9 @@ fn nav_setup(a: &BenchArgs, robot_radius: Option<f64>, world: &World) -> Result<
         }
         None => {
             let mut p = NavParams::default();
-            if let Some(r) = robot_radius {
-                p.global_costmap.robot_radius = r;
+            if let Some(r) = robot {
+                p.global_costmap.robot_radius = r.radius;
+                p.global_costmap.footprint = r.footprint.clone().unwrap_or_default();
             }
             p
         }
