@@ -37,6 +37,8 @@ pub enum Command {
     Perf(PerfArgs),
     /// Run the native navigation stack once from a start to a goal and draw it.
     Navigate(NavigateArgs),
+    /// Render the depth and RGB images seen from a pose, side by side, as PNG.
+    Render(RenderArgs),
     /// Scene tools.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -234,6 +236,53 @@ pub struct PhysicsOpts {
     pub steps_per_sec: f64,
 }
 
+/// Renderers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RendererArg {
+    /// The fastest available here (today: raycast).
+    Auto,
+    /// CPU ray casting (parry3d BVH), the reference.
+    Raycast,
+    /// CPU rasteriser (not built yet).
+    Raster,
+    /// wgpu (not built yet).
+    Wgpu,
+}
+
+/// Camera options.
+#[derive(Debug, Clone, Args)]
+pub struct CameraOpts {
+    /// Renderer.
+    #[arg(long, value_enum, default_value_t = RendererArg::Auto, help_heading = "Camera")]
+    pub renderer: RendererArg,
+    /// Image width and height (px).
+    #[arg(long, default_value_t = 256, help_heading = "Camera")]
+    pub resolution: usize,
+    /// Horizontal field of view (degrees).
+    #[arg(long, default_value_t = 90.0, help_heading = "Camera")]
+    pub hfov: f64,
+    /// Camera height above the robot's base (m).
+    #[arg(long, default_value_t = 1.25, help_heading = "Camera")]
+    pub camera_height: f64,
+}
+
+/// `xhab render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene.
+    pub scene: String,
+    /// Robot pose X,Y,Z,YAW (world frame: m, m, m of the base, rad).
+    #[arg(long, allow_hyphen_values = true)]
+    pub pose: String,
+    /// Output PNG (depth colour-mapped on the left, RGB on the right).
+    #[arg(long, default_value = "view.png")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub camera: CameraOpts,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
 /// `xhab navigate`.
 #[derive(Debug, Args)]
 pub struct NavigateArgs {
@@ -277,6 +326,11 @@ pub struct PerfArgs {
     pub seconds: f64,
     #[command(flatten)]
     pub physics: PhysicsOpts,
+    /// Sensors to render at every step (`depth`; rgb too with `depth,rgb`).
+    #[arg(long, value_delimiter = ',')]
+    pub sensors: Vec<String>,
+    #[command(flatten)]
+    pub camera: CameraOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
 }

@@ -191,3 +191,15 @@ fn nav_agent_reaches_goals_under_physics() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("DWAPlannerROS.max_vel_x") && err.contains("nav.yaml"), "{err}");
 }
+
+#[test]
+fn render_writes_depth_and_rgb_and_refuses_missing_renderers() {
+    let d = tmp("render");
+    let out = d.join("view.png");
+    run(&["render", "procedural:1", "--pose", "2,2,0,0.5", "--out", out.to_str().unwrap(), "--resolution", "64"]);
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (2 * 64 + 4, 64));
+    let bad = xhab().args(["render", "procedural:1", "--pose", "2,2,0,0.5", "--renderer", "wgpu", "--out", out.to_str().unwrap()]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("not built yet"));
+}

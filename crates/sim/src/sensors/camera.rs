@@ -34,6 +34,30 @@ impl CameraParams {
     }
 }
 
+/// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
+/// first): each pixel the base colour of the triangle hit, shaded by the angle of incidence;
+/// black where nothing is hit.
+pub fn render_rgb(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
+    let k = cam.intrinsics();
+    let (s, c) = base.yaw.sin_cos();
+    let origin = [base.x, base.y, floor_z + cam.mount_height];
+    let mut data = vec![0u8; cam.width * cam.height * 3];
+    data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
+        let y = (v as f64 - k.cy) / k.fy;
+        for u in 0..cam.width {
+            let x = (u as f64 - k.cx) / k.fx;
+            let dir = [c + x * s, s - x * c, -y];
+            if let Some((_, rgb, cos)) = scene.cast_color(origin, dir, cam.max_depth) {
+                let shade = 0.35 + 0.65 * cos;
+                for ch in 0..3 {
+                    row[u * 3 + ch] = (rgb[ch] as f64 * shade).round() as u8;
+                }
+            }
+        }
+    });
+    data
+}
+
 /// Renders the depth image seen from the robot at `base` standing on the floor at `floor_z`
 /// (m): depth along the optical axis (m), 0 where nothing is hit within `max_depth`.
 pub fn render_depth(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams) -> DepthImage {

@@ -4,6 +4,6 @@ pub mod camera;
 pub mod lidar;
 pub mod raycast;
 
-pub use camera::{render_depth, CameraParams};
+pub use camera::{render_depth, render_rgb, CameraParams};
 pub use lidar::{Lidar, LidarParams};
 pub use raycast::RayScene;

@@ -7,6 +7,7 @@ mod geodesic;
 mod map;
 mod navigate;
 mod perf;
+mod render;
 mod scene;
 
 use crate::cli::{Cli, Command};
@@ -24,6 +25,7 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Bench(a) => bench::run(a, cli.quiet),
         Command::Perf(a) => perf::run(a),
         Command::Navigate(a) => navigate::run(a),
+        Command::Render(a) => render::run(a),
         Command::Scene(c) => scene::run(c),
     }
 }

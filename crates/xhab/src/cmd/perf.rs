@@ -143,6 +143,12 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         "threads": 1,
         "checksum": checksum,
     });
+    if !a.sensors.is_empty() {
+        let sp = sensor_perf(&world, &grid, &episodes, a)?;
+        if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), sp) {
+            m.extend(p);
+        }
+    }
     if a.physics.physics {
         let ph = physics_perf(&world, &grid, &episodes, a)?;
         if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), ph) {
@@ -205,5 +211,56 @@ fn physics_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>
         "physics_steps_per_s": steps_per_s,
         "physics_action_steps_per_s": actions as f64 / act_s,
         "physics_real_time_factor": steps_per_s / a.physics.steps_per_sec,
+    }))
+}
+
+/// Discrete steps that render the camera at every step (`--sensors depth[,rgb]`).
+fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>, episodes: &[Episode], a: &PerfArgs) -> Result<serde_json::Value> {
+    use xhab_sim::sensors::{render_depth, render_rgb, RayScene};
+    for s in &a.sensors {
+        if s != "depth" && s != "rgb" {
+            anyhow::bail!("--sensors: unknown sensor '{s}' (depth, rgb)");
+        }
+    }
+    let cam = super::render::camera(&a.camera)?;
+    let rgb = a.sensors.iter().any(|s| s == "rgb");
+    let t = Instant::now();
+    let rs = RayScene::new(&world.scene).context("the scene has no triangles")?;
+    let bvh_s = t.elapsed().as_secs_f64();
+    let mut act_rng = ChaCha8Rng::seed_from_u64(17);
+    let (mut steps, mut s) = (0u64, 0.0);
+    let mut checksum = 0.0f64;
+    while s < a.seconds {
+        for ep in episodes {
+            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+            let t = Instant::now();
+            for _ in 0..50 {
+                let act = match act_rng.gen_range(0..4) {
+                    0 | 1 => Action::MoveForward,
+                    2 => Action::TurnLeft,
+                    _ => Action::TurnRight,
+                };
+                env.step(act);
+                let img = render_depth(&rs, env.pose(), grid.floor_z, &cam);
+                checksum += img.data[img.data.len() / 2] as f64;
+                if rgb {
+                    checksum += render_rgb(&rs, env.pose(), grid.floor_z, &cam)[0] as f64;
+                }
+            }
+            s += t.elapsed().as_secs_f64();
+            steps += 50;
+            if s >= a.seconds {
+                break;
+            }
+        }
+    }
+    Ok(serde_json::json!({
+        "renderer": "raycast",
+        "sensors": a.sensors,
+        "resolution": cam.width,
+        "render_threads": rayon::current_num_threads(),
+        "sensor_bvh_build_s": bvh_s,
+        "depth_steps_per_s": steps as f64 / s,
+        "sensor_checksum": checksum,
     }))
 }
