@@ -6,6 +6,7 @@ use crate::runner::{EpisodeRun, Outcome, RunConfig};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::Instant;
+use xhab_nav::amcl::Amcl;
 use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
 use xhab_sim::env::DiscreteEnv;
 use xhab_sim::navgrid::NavGrid;
@@ -21,6 +22,9 @@ pub enum Localization {
     GroundTruth,
     /// Integrated wheel odometry with noise (drifts).
     Odom,
+    /// AMCL on the static map, from the start pose with ROS's initial covariance
+    /// (0.5 m, pi/12 rad standard deviations), fed by odometry and the lidar.
+    Amcl,
 }
 
 /// What the nav agent needs beyond the run config.
@@ -50,15 +54,29 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));
     let mut next_scan = 0.0;
+    let mut amcl = (setup.localization == Localization::Amcl).then(|| {
+        let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
+        let mut a = Amcl::new(&map, setup.params.amcl.clone(), cfg.seed);
+        a.init(env.odometry(), 0.5, std::f64::consts::PI / 12.0);
+        a
+    });
+    // map -> odom: identity until AMCL corrects it (odometry starts at the true start pose).
+    let mut map_to_odom = Pose2::default();
     while !env.is_done() {
-        let pose: Pose2 = match setup.localization {
+        let mut pose: Pose2 = match setup.localization {
             Localization::GroundTruth => env.pose(),
-            Localization::Odom => env.odometry(),
+            Localization::Odom | Localization::Amcl => map_to_odom.compose(env.odometry()),
         };
         if let Some((rs, l)) = lidar.as_mut() {
             if env.sim_s() + 1e-9 >= next_scan {
                 // Taken where the robot is, placed where it believes it is.
                 let scan = l.scan(rs, env.pose(), grid.floor_z);
+                if let Some(a) = amcl.as_mut() {
+                    if a.update(env.odometry(), &scan, Pose2::default()) {
+                        map_to_odom = a.map_to_odom(env.odometry());
+                        pose = map_to_odom.compose(env.odometry());
+                    }
+                }
                 nav.add_scan(&scan, pose);
                 next_scan += setup.scan_period;
             }

@@ -5,6 +5,7 @@
 //! [`navigator`]: a move_base-like state machine over them.
 #![warn(missing_docs)]
 
+pub mod amcl;
 pub mod costmap;
 pub mod depth_to_scan;
 pub mod dwa;

@@ -24,6 +24,8 @@ pub struct NavParams {
     pub dwa: DwaParams,
     /// Obstacle layer and rolling local costmap (used once scans arrive).
     pub obstacle_layer: ObstacleParams,
+    /// Localisation by AMCL (when it is the localisation source).
+    pub amcl: crate::amcl::AmclParams,
 }
 
 /// move_base's own parameters.

@@ -166,6 +166,8 @@ pub enum LocalizationArg {
     GroundTruth,
     /// Wheel odometry alone (drifts).
     Odom,
+    /// AMCL on the static map with odometry and the lidar.
+    Amcl,
 }
 
 /// `xhab bench`.

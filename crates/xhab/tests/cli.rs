@@ -181,6 +181,12 @@ fn nav_agent_reaches_goals_under_physics() {
     assert!(a["success"].as_f64().unwrap() >= 5.0 / 6.0, "{a}");
     assert!(a["spl"].as_f64().unwrap() >= 0.7, "{a}");
     assert!(a["real_time_factor"].as_f64().unwrap() > 1.0, "{a}");
+    // Localised by AMCL on the same map, with the lidar.
+    let r2 = d.join("amcl.json");
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--localization", "amcl", "--out", r2.to_str().unwrap(), "--quiet"]);
+    let a2 = read_json(&r2)["aggregate"].clone();
+    eprintln!("nav + amcl on procedural:6: {a2}");
+    assert!(a2["success"].as_f64().unwrap() >= 4.0 / 6.0, "{a2}");
     // A navigation YAML with ROS names is accepted; a typo is named.
     let y = d.join("nav.yaml");
     std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: 0.4\nglobal_costmap:\n  inflation_radius: 0.5\n").unwrap();

@@ -83,7 +83,11 @@ fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World) -> Resu
     let localization = match a.localization {
         LocalizationArg::GroundTruth => Localization::GroundTruth,
         LocalizationArg::Odom => Localization::Odom,
+        LocalizationArg::Amcl => Localization::Amcl,
     };
+    if a.no_scans && localization == Localization::Amcl {
+        anyhow::bail!("--localization amcl needs the lidar: drop --no-scans");
+    }
     let lidar = if a.no_scans {
         None
     } else {
