@@ -10,7 +10,7 @@ use crate::costmap::edt;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use xhab_types::{normalize_angle, LaserScan, OccupancyGrid, Point2, Pose2, GRID_FREE, GRID_OCCUPIED};
+use xhab_types::{normalize_angle, LaserScan, OccupancyGrid, Pose2, GRID_FREE, GRID_OCCUPIED};
 
 /// AMCL parameters (ROS names; noetic defaults unless noted).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -234,21 +234,26 @@ impl Amcl {
         let n = scan.ranges.len();
         let step = (n / p.laser_max_beams.max(1)).max(1);
         let z_rand = p.laser_z_rand / scan.range_max.max(1e-6);
+        // The used beams in the laser frame: end points (m) relative to the laser.
+        let beams: Vec<(f64, f64)> = (0..n)
+            .step_by(step)
+            .filter_map(|i| {
+                let r = scan.ranges[i] as f64;
+                (r.is_finite() && r >= scan.range_min && r <= scan.range_max).then(|| (r * scan.angle(i).cos(), r * scan.angle(i).sin()))
+            })
+            .collect();
+        // Maps are unrotated (origin yaw 0): cells by plain arithmetic, no trigonometry per beam.
+        let (ox, oy, inv_res) = (self.map.origin.x, self.map.origin.y, 1.0 / self.map.resolution);
+        let (mw, mh) = (self.map.width as i64, self.map.height as i64);
         let mut total = 0.0;
         for (pose, w) in self.particles.iter_mut() {
             let lp = pose.compose(laser);
+            let (s, c) = lp.yaw.sin_cos();
             let mut sum = 0.0;
-            for i in (0..n).step_by(step) {
-                let r = scan.ranges[i] as f64;
-                if !r.is_finite() || r < scan.range_min || r > scan.range_max {
-                    continue;
-                }
-                let a = lp.yaw + scan.angle(i);
-                let e = Point2::new(lp.x + r * a.cos(), lp.y + r * a.sin());
-                let f = match self.map.world_to_cell(e) {
-                    Some((c, rr)) => self.field[rr * self.map.width + c] as f64,
-                    None => 0.0,
-                };
+            for &(bx, by) in &beams {
+                let (ex, ey) = (lp.x + c * bx - s * by, lp.y + s * bx + c * by);
+                let (ci, ri) = (((ex - ox) * inv_res).floor() as i64, ((ey - oy) * inv_res).floor() as i64);
+                let f = if ci >= 0 && ri >= 0 && ci < mw && ri < mh { self.field[(ri * mw + ci) as usize] as f64 } else { 0.0 };
                 let pz = p.laser_z_hit * f + z_rand;
                 sum += pz * pz * pz;
             }
@@ -355,6 +360,7 @@ impl Amcl {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use xhab_types::Point2;
 
     #[test]
     fn normal_quantiles() {

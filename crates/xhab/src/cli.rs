@@ -331,6 +331,9 @@ pub struct PerfArgs {
     /// Sensors to render at every step (`depth`; rgb too with `depth,rgb`).
     #[arg(long, value_delimiter = ',')]
     pub sensors: Vec<String>,
+    /// Time AMCL updates (5,000 particles, 60 beams).
+    #[arg(long)]
+    pub amcl: bool,
     #[command(flatten)]
     pub camera: CameraOpts,
     #[command(flatten)]

@@ -145,6 +145,12 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
             m.extend(p);
         }
     }
+    if a.amcl {
+        let ap = amcl_perf(&world, &grid, &episodes, a)?;
+        if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), ap) {
+            m.extend(p);
+        }
+    }
     if a.physics.physics {
         let ph = physics_perf(&world, &grid, &episodes, a)?;
         if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), ph) {
@@ -260,4 +266,32 @@ fn random_action(rng: &mut ChaCha8Rng) -> Action {
         2 => Action::TurnLeft,
         _ => Action::TurnRight,
     }
+}
+
+/// AMCL update time with 5,000 particles and 60 beams (motion model, weighting, resampling
+/// every second update), on one core.
+fn amcl_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>, episodes: &[Episode], a: &PerfArgs) -> Result<serde_json::Value> {
+    use xhab_nav::amcl::{Amcl, AmclParams};
+    use xhab_sim::sensors::{Lidar, LidarParams, RayScene};
+    let rs = RayScene::new(&world.scene).context("the scene has no triangles")?;
+    let map = grid.occupancy_grid();
+    // Exactly 5,000 particles: init() spreads max(min, max / 2) and KLD may not go below min.
+    let params = AmclParams { min_particles: 5000, max_particles: 5000, laser_max_beams: 60, ..Default::default() };
+    let mut amcl = Amcl::new(&map, params, 1);
+    let start = episodes[0].start_position;
+    let mut pose = xhab_types::Pose2::new(start.x, start.y, 0.0);
+    amcl.init(pose, 0.2, 0.1);
+    let mut lidar = Lidar::new(LidarParams { beams: 360, ..Default::default() }, 2);
+    let scan = lidar.scan(&rs, pose, grid.floor_z);
+    amcl.update(pose, &scan, xhab_types::Pose2::default());
+    let (mut n, mut s) = (0u32, 0.0);
+    while s < a.seconds || n < 10 {
+        // Alternate small moves so that every call passes update_min_d.
+        pose = pose.compose(xhab_types::Pose2::new(0.21 * if n % 2 == 0 { 1.0 } else { -1.0 }, 0.0, 0.0));
+        let t = Instant::now();
+        amcl.update(pose, &scan, xhab_types::Pose2::default());
+        s += t.elapsed().as_secs_f64();
+        n += 1;
+    }
+    Ok(serde_json::json!({ "amcl_particles": amcl.len(), "amcl_beams": 60, "amcl_update_ms": 1000.0 * s / n as f64 }))
 }
