@@ -62,6 +62,7 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
     });
     // map -> odom: identity until AMCL corrects it (odometry starts at the true start pose).
     let mut map_to_odom = Pose2::default();
+    let (mut err_sum, mut err_n) = ([0.0f64; 2], 0usize);
     while !env.is_done() {
         let mut pose: Pose2 = match setup.localization {
             Localization::GroundTruth => env.pose(),
@@ -75,6 +76,10 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
                     if a.update(env.odometry(), &scan, Pose2::default()) {
                         map_to_odom = a.map_to_odom(env.odometry());
                         pose = map_to_odom.compose(env.odometry());
+                        let truth = env.pose();
+                        err_sum[0] += pose.position().dist(truth.position());
+                        err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
+                        err_n += 1;
                     }
                 }
                 nav.add_scan(&scan, pose);
@@ -98,5 +103,6 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
         trajectory: traj,
         sim_s: Some(env.sim_s()),
         stuck: Some(env.stuck() || nav.status() == NavStatus::Aborted),
+        localization_error: (err_n > 0).then(|| [err_sum[0] / err_n as f64, err_sum[1] / err_n as f64]),
     })
 }

@@ -60,6 +60,10 @@ pub struct EpisodeRun {
     pub sim_s: Option<f64>,
     /// Whether the robot got stuck (no progress over the stuck window), physics runs only.
     pub stuck: Option<bool>,
+    /// Mean localisation error against ground truth: position (m), heading (rad), over the
+    /// filter's updates (AMCL runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub localization_error: Option<[f64; 2]>,
 }
 
 /// An episode that could not run, and why.
@@ -139,6 +143,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         trajectory: traj,
         sim_s: physics_env.as_ref().map(|p| p.sim_s()),
         stuck: physics_env.as_ref().map(|p| p.stuck()),
+        localization_error: None,
     })
 }
 
@@ -195,6 +200,12 @@ pub struct Aggregate {
     pub stuck: Option<f64>,
     /// Failed episodes by cause.
     pub failures: Failures,
+    /// Mean localisation error (m) over episodes that report one (AMCL runs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub localization_error_m: Option<f64>,
+    /// Mean heading error (degrees) over episodes that report one (AMCL runs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub localization_error_deg: Option<f64>,
 }
 
 /// Why episodes failed (each failed episode counts once, in the first matching cause).
@@ -225,7 +236,11 @@ pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
             failures.step_limit += 1;
         }
     }
+    let loc: Vec<[f64; 2]> = runs.iter().filter_map(|r| r.localization_error).collect();
+    let loc_mean = |k: usize| (!loc.is_empty()).then(|| loc.iter().map(|e| e[k]).sum::<f64>() / loc.len() as f64);
     Aggregate {
+        localization_error_m: loc_mean(0),
+        localization_error_deg: loc_mean(1).map(f64::to_degrees),
         sim_s: physics.then_some(sim_s),
         real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
         stuck: physics.then(|| runs.iter().filter(|r| r.stuck == Some(true)).count() as f64 / n),

@@ -80,6 +80,12 @@ pub struct EpisodeReport {
     /// Whether the robot got stuck, physics runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stuck: Option<bool>,
+    /// Mean localisation position error (m), AMCL runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub localization_error_m: Option<f64>,
+    /// Mean localisation heading error (degrees), AMCL runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub localization_error_deg: Option<f64>,
 }
 
 impl From<&EpisodeRun> for EpisodeReport {
@@ -101,6 +107,8 @@ impl From<&EpisodeRun> for EpisodeReport {
             sim_s: r.sim_s,
             real_time_factor: r.sim_s.map(|s| if r.wall_s > 0.0 { s / r.wall_s } else { 0.0 }),
             stuck: r.stuck,
+            localization_error_m: r.localization_error.map(|e| e[0]),
+            localization_error_deg: r.localization_error.map(|e| e[1].to_degrees()),
         }
     }
 }
