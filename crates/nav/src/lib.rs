@@ -10,6 +10,7 @@ pub mod costmap;
 pub mod depth_to_scan;
 pub mod dwa;
 pub mod map_server;
+pub mod mapping;
 pub mod navigator;
 pub mod obstacle_layer;
 pub mod planner;
