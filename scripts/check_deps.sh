@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 fail=0
 deps() {
   local out
-  out=$(cargo tree -p "$1" -e normal --prefix none) || { echo "dependency direction: cargo tree -p $1 failed" >&2; exit 1; }
+  out=$(cargo tree --locked -p "$1" -e normal --prefix none) || { echo "dependency direction: cargo tree -p $1 failed" >&2; exit 1; }
   awk '{print $1}' <<<"$out" | sort -u
 }
 check() { # crate forbidden...
