@@ -3,38 +3,16 @@
 use std::sync::Arc;
 use xhab_sim::action::Action;
 use xhab_sim::env::{DiscreteEnv, Env, InvalidEpisode, TaskConfig};
-use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::oracle::ShortestPathFollower;
-use xhab_sim::scene::Scene;
-use xhab_types::Point3;
 
-const GREY: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
+use crate::common::{episode, room_with_door, GREY};
 
-/// A 6 x 6 m room with a wall across it (door at x in [2.5, 3.4]) and a table.
+/// The room with a door, and a table, as a navigation grid.
 fn room() -> Arc<NavGrid> {
-    let mut s = Scene::default();
-    s.add_box("floor", [0.0, 0.0, -0.05], [6.0, 6.0, 0.0], GREY);
-    s.add_box("wall_s", [0.0, -0.1, 0.0], [6.0, 0.0, 2.5], GREY);
-    s.add_box("wall_n", [0.0, 6.0, 0.0], [6.0, 6.1, 2.5], GREY);
-    s.add_box("wall_w", [-0.1, 0.0, 0.0], [0.0, 6.0, 2.5], GREY);
-    s.add_box("wall_e", [6.0, 0.0, 0.0], [6.1, 6.0, 2.5], GREY);
-    s.add_box("wall_mid_a", [0.0, 2.95, 0.0], [2.5, 3.05, 2.5], GREY);
-    s.add_box("wall_mid_b", [3.4, 2.95, 0.0], [6.0, 3.05, 2.5], GREY);
+    let mut s = room_with_door();
     s.add_box("table", [4.0, 4.0, 0.7], [5.0, 5.0, 0.75], GREY);
     Arc::new(NavGrid::build(&s, &AgentParams::default(), 0.0).unwrap())
-}
-
-fn episode(sx: f64, sy: f64, yaw: f64, gx: f64, gy: f64) -> Episode {
-    Episode {
-        episode_id: "t".into(),
-        scene_id: "room".into(),
-        start_position: Point3::new(sx, sy, 0.0),
-        start_yaw: yaw,
-        goals: vec![Goal { position: Point3::new(gx, gy, 0.0), radius: 0.2 }],
-        geodesic_distance: None,
-        info: serde_json::Value::Null,
-    }
 }
 
 fn run_oracle(env: &mut Env) {

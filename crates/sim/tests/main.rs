@@ -1,4 +1,5 @@
 //! Integration tests of xhab-sim, one binary (topic files below).
+mod common;
 mod env_oracle;
 mod physics;
 mod scenes;

@@ -2,15 +2,14 @@
 
 use std::sync::Arc;
 use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
-use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::oracle::ShortestPathFollower;
 use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
 use xhab_sim::robot::{PhysicsParams, PhysicsScene, RigidRobot, RobotProfile};
 use xhab_sim::scene::Scene;
-use xhab_types::{Point3, Pose2, Twist};
+use xhab_types::{Pose2, Twist};
 
-const GREY: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
+use crate::common::{episode, room_with_door as room, GREY};
 
 fn wall_scene() -> Scene {
     let mut s = Scene::default();
@@ -41,30 +40,6 @@ fn no_profile_tunnels_through_a_wall_at_any_speed() {
     }
 }
 
-fn room() -> Scene {
-    let mut s = Scene::default();
-    s.add_box("floor", [0.0, 0.0, -0.05], [6.0, 6.0, 0.0], GREY);
-    s.add_box("wall_s", [0.0, -0.1, 0.0], [6.0, 0.0, 2.5], GREY);
-    s.add_box("wall_n", [0.0, 6.0, 0.0], [6.0, 6.1, 2.5], GREY);
-    s.add_box("wall_w", [-0.1, 0.0, 0.0], [0.0, 6.0, 2.5], GREY);
-    s.add_box("wall_e", [6.0, 0.0, 0.0], [6.1, 6.0, 2.5], GREY);
-    s.add_box("wall_mid_a", [0.0, 2.95, 0.0], [2.5, 3.05, 2.5], GREY);
-    s.add_box("wall_mid_b", [3.4, 2.95, 0.0], [6.0, 3.05, 2.5], GREY);
-    s
-}
-
-fn episode(sx: f64, sy: f64, gx: f64, gy: f64) -> Episode {
-    Episode {
-        episode_id: "p".into(),
-        scene_id: "room".into(),
-        start_position: Point3::new(sx, sy, 0.0),
-        start_yaw: 0.4,
-        goals: vec![Goal { position: Point3::new(gx, gy, 0.0), radius: 0.2 }],
-        geodesic_distance: None,
-        info: serde_json::Value::Null,
-    }
-}
-
 fn run(env: &mut dyn DiscreteEnv) -> Vec<Pose2> {
     let mut o = ShortestPathFollower::new();
     let mut traj = vec![env.pose()];
@@ -83,7 +58,7 @@ fn oracle_under_physics_matches_the_kinematic_run() {
     let ps = PhysicsScene::new(&scene).unwrap();
     let prof = RobotProfile::builtin("habitat").unwrap();
     for (sx, sy, gx, gy) in [(1.0, 1.0, 1.0, 5.0), (5.5, 0.5, 0.5, 5.5)] {
-        let ep = episode(sx, sy, gx, gy);
+        let ep = episode(sx, sy, 0.4, gx, gy);
         let mut k = Env::new(grid.clone(), &ep, TaskConfig::default()).unwrap();
         run(&mut k);
         let mut p = PhysicsEnv::new(grid.clone(), &ps, &ep, TaskConfig::default(), &prof, PhysicsConfig::default(), 1).unwrap();
@@ -103,7 +78,7 @@ fn physics_is_deterministic_across_threads() {
     let ps = PhysicsScene::new(&scene).unwrap();
     let prof = RobotProfile::builtin("locobot").unwrap();
     let once = || {
-        let mut p = PhysicsEnv::new(grid.clone(), &ps, &episode(1.0, 1.0, 5.0, 5.0), TaskConfig::default(), &prof, PhysicsConfig::default(), 9).unwrap();
+        let mut p = PhysicsEnv::new(grid.clone(), &ps, &episode(1.0, 1.0, 0.4, 5.0, 5.0), TaskConfig::default(), &prof, PhysicsConfig::default(), 9).unwrap();
         let t = run(&mut p);
         (t.iter().map(|q| (q.x.to_bits(), q.y.to_bits(), q.yaw.to_bits())).collect::<Vec<_>>(), p.odometry())
     };
