@@ -7,10 +7,13 @@
 
 pub mod amcl;
 pub mod costmap;
+pub mod costmap_2d;
 pub mod depth_to_scan;
 pub mod dwa;
+pub mod global_planner;
 pub mod map_server;
 pub mod mapping;
 pub mod navigator;
 pub mod obstacle_layer;
+pub mod param_error;
 pub mod planner;
