@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod amcl;
+pub mod controller;
 pub mod costmap;
 pub mod costmap_2d;
 pub mod depth_to_scan;

@@ -207,7 +207,7 @@ impl Costmap2D {
     pub fn world_to_map(&self, p: Point2) -> Option<(usize, usize)> {
         let (fx, fy) = self.world_to_map_continuous(p);
         (fx >= 0.0 && fy >= 0.0 && fx < self.size_x as f64 && fy < self.size_y as f64)
-            .then(|| (fx as usize, fy as usize))
+            .then_some((fx as usize, fy as usize))
     }
     /// Cell (possibly outside the window) containing world point `p` (m), as signed indices.
     pub fn world_to_map_unbounded(&self, p: Point2) -> (i64, i64) {

@@ -117,7 +117,7 @@ mod tests {
                 state = state
                     .wrapping_mul(6364136223846793005)
                     .wrapping_add(1442695040888963407);
-                (state >> 33) % 29 == 0
+                matches!((state >> 33) % 29, 0)
             })
             .collect();
         assert_eq!(
