@@ -2,14 +2,14 @@
 
 use serde::{Deserialize, Serialize};
 use xhab_sim::action::Action;
-use xhab_sim::env::DiscreteEnv;
+use xhab_sim::env::EnvView;
 use xhab_sim::oracle::ShortestPathFollower;
 
 /// An agent of discrete actions. It sees the environment through `env` (its observation,
 /// and privileged state for oracles).
 pub trait DiscreteAgent: Send {
     /// The next action.
-    fn act(&mut self, env: &dyn DiscreteEnv) -> Action;
+    fn act(&mut self, env: &dyn EnvView) -> Action;
     /// Called before each episode.
     fn reset(&mut self) {}
 }
@@ -45,7 +45,7 @@ impl AgentKind {
 struct OracleAgent(ShortestPathFollower);
 
 impl DiscreteAgent for OracleAgent {
-    fn act(&mut self, env: &dyn DiscreteEnv) -> Action {
+    fn act(&mut self, env: &dyn EnvView) -> Action {
         self.0.act(env)
     }
     fn reset(&mut self) {

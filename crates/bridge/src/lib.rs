@@ -7,3 +7,4 @@
 pub mod agents;
 pub mod nav_agent;
 pub mod runner;
+pub mod ros;

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 use xhab_nav::amcl::Amcl;
 use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
-use xhab_sim::env::DiscreteEnv;
+use xhab_sim::env::{DiscreteEnv, EnvView};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
 use xhab_sim::sensors::{Lidar, LidarParams, RayScene};

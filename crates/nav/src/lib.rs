@@ -6,15 +6,11 @@
 #![warn(missing_docs)]
 
 pub mod amcl;
-pub mod controller;
 pub mod costmap;
-pub mod costmap_2d;
 pub mod depth_to_scan;
 pub mod dwa;
-pub mod global_planner;
 pub mod map_server;
 pub mod mapping;
 pub mod navigator;
 pub mod obstacle_layer;
-pub mod param_error;
 pub mod planner;

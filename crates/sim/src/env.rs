@@ -120,8 +120,26 @@ pub(crate) fn observation(start: Pose2, pose: Pose2, goal: Point2) -> Observatio
     Observation { pose, gps: rel.position(), compass: rel.yaw, pointgoal: [dx.hypot(dy), normalize_angle(dy.atan2(dx) - pose.yaw)] }
 }
 
-/// What agents and runners see of a running PointNav episode, with or without physics.
-pub trait DiscreteEnv: Send {
+/// What an agent sees of a running PointNav episode: the pose and, for oracles, the task's
+/// privileged state. A simulator implements it, and so does an agent's view built from ROS
+/// messages.
+pub trait EnvView {
+    /// The agent's ground-truth pose (m, rad).
+    fn pose(&self) -> Pose2;
+    /// Geodesic distance from the agent to the nearest goal (m).
+    fn distance_to_goal(&self) -> f64 {
+        self.field().distance(self.grid(), self.pose().position())
+    }
+    /// The task settings.
+    fn config(&self) -> &TaskConfig;
+    /// The navigation grid of the episode's floor.
+    fn grid(&self) -> &Arc<NavGrid>;
+    /// The geodesic field towards the episode's goals.
+    fn field(&self) -> &Arc<GeodesicField>;
+}
+
+/// A running PointNav episode that runners step, with or without physics.
+pub trait DiscreteEnv: EnvView + Send {
     /// Applies one action (Habitat's discrete actions).
     fn step(&mut self, action: Action) -> StepResult;
     /// The observation at the current state.
@@ -130,16 +148,6 @@ pub trait DiscreteEnv: Send {
     fn is_done(&self) -> bool;
     /// The metrics so far (final once the episode is done).
     fn metrics(&self) -> EpisodeMetrics;
-    /// The agent's ground-truth pose (m, rad).
-    fn pose(&self) -> Pose2;
-    /// Geodesic distance from the agent to the nearest goal (m).
-    fn distance_to_goal(&self) -> f64;
-    /// The task settings.
-    fn config(&self) -> &TaskConfig;
-    /// The navigation grid of the episode's floor.
-    fn grid(&self) -> &Arc<NavGrid>;
-    /// The geodesic field towards the episode's goals.
-    fn field(&self) -> &Arc<GeodesicField>;
 }
 
 /// One running episode on one floor.
@@ -216,11 +224,6 @@ impl DiscreteEnv for Env {
         observation(self.start, self.pose, self.goals[0])
     }
 
-    /// Geodesic distance from the agent to the nearest goal (m).
-    fn distance_to_goal(&self) -> f64 {
-        self.field.distance(&self.grid, self.pose.position())
-    }
-
     /// The metrics so far (final once the episode is done).
     fn metrics(&self) -> EpisodeMetrics {
         let dtg = self.distance_to_goal();
@@ -231,6 +234,9 @@ impl DiscreteEnv for Env {
     fn is_done(&self) -> bool {
         self.done
     }
+}
+
+impl EnvView for Env {
     /// The agent's ground-truth pose (m, rad).
     fn pose(&self) -> Pose2 {
         self.pose

@@ -2,7 +2,7 @@
 //! ShortestPathFollower.
 
 use crate::action::Action;
-use crate::env::DiscreteEnv;
+use crate::env::EnvView;
 use crate::kinematic::try_step;
 use xhab_types::{normalize_angle, Point2};
 
@@ -18,7 +18,7 @@ pub struct ShortestPathFollower {
 }
 
 /// Where a forward move from `p` along heading `yaw` ends.
-fn forward(env: &dyn DiscreteEnv, p: Point2, yaw: f64) -> Point2 {
+fn forward(env: &dyn EnvView, p: Point2, yaw: f64) -> Point2 {
     let step = env.config().forward_step_size;
     let (s, c) = yaw.sin_cos();
     try_step(env.grid(), p, Point2::new(p.x + c * step, p.y + s * step)).0
@@ -34,7 +34,7 @@ impl ShortestPathFollower {
     }
 
     /// The next action for the agent in `env`.
-    pub fn act(&mut self, env: &dyn DiscreteEnv) -> Action {
+    pub fn act(&mut self, env: &dyn EnvView) -> Action {
         let cfg = env.config();
         let d = env.distance_to_goal();
         // Stop a safe margin inside the strict success radius.
@@ -67,13 +67,13 @@ impl ShortestPathFollower {
     }
 
     /// Geodesic progress (m) of a forward move along heading `yaw` from the agent's position.
-    fn progress(&self, env: &dyn DiscreteEnv, yaw: f64, d: f64) -> f64 {
+    fn progress(&self, env: &dyn EnvView, yaw: f64, d: f64) -> f64 {
         d - env.field().distance(env.grid(), forward(env, env.pose().position(), yaw))
     }
 
     /// Turns towards the heading (a whole number of turns away) whose forward move makes the most
     /// geodesic progress, preferring small turns; moves forward if that is the current one.
-    fn best_heading(&mut self, env: &dyn DiscreteEnv, d: f64) -> Action {
+    fn best_heading(&mut self, env: &dyn EnvView, d: f64) -> Action {
         let yaw = env.pose().yaw;
         let turn = env.config().turn_angle.to_radians();
         let n = (std::f64::consts::PI / turn).round().max(1.0) as i64;
@@ -103,7 +103,7 @@ impl ShortestPathFollower {
 
     /// No single move helps (a move overshoots past a corner): the best first heading of two
     /// consecutive moves; turns in place when even that fails (the step limit ends the episode).
-    fn two_moves(&mut self, env: &dyn DiscreteEnv, d: f64) -> Action {
+    fn two_moves(&mut self, env: &dyn EnvView, d: f64) -> Action {
         let yaw = env.pose().yaw;
         let turn = env.config().turn_angle.to_radians();
         let n = (std::f64::consts::PI / turn).round().max(1.0) as i64;

@@ -3,7 +3,7 @@
 //! forward 0.25/T m/s, turns 10/T deg/s, stop = zero velocity. Metrics as in [`crate::env`].
 
 use crate::action::Action;
-use crate::env::{observation, prepare, DiscreteEnv, InvalidEpisode, Observation, Prepared, StepResult, TaskConfig};
+use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, Prepared, StepResult, TaskConfig};
 use crate::episode::Episode;
 use crate::geodesic::GeodesicField;
 use crate::metrics::EpisodeMetrics;
@@ -211,12 +211,11 @@ impl DiscreteEnv for PhysicsEnv {
         EpisodeMetrics::new(self.task.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions)
     }
 
+}
+
+impl EnvView for PhysicsEnv {
     fn pose(&self) -> Pose2 {
         self.robot.pose()
-    }
-
-    fn distance_to_goal(&self) -> f64 {
-        self.field.distance(&self.grid, self.robot.pose().position())
     }
 
     fn config(&self) -> &TaskConfig {

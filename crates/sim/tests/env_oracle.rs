@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, InvalidEpisode, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, Env, EnvView, InvalidEpisode, TaskConfig};
 use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::oracle::ShortestPathFollower;
 

@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use std::process::ExitCode;
 use std::time::Instant;
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::geodesic::GeodesicField;
 use xhab_sim::oracle::ShortestPathFollower;

@@ -1,0 +1,5 @@
+//! ROS 1 interop over TCPROS (roslibrust's ros1 backend): the simulator, the native stack and
+//! discrete agents as ROS nodes, with a lock-step mode whose results equal in-process runs.
+
+pub mod master;
+pub mod msgs;
