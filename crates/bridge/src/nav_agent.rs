@@ -42,55 +42,166 @@ pub struct NavSetup {
     pub scan_period: f64,
 }
 
+/// When scans are taken in an episode: at the first step at or after each multiple of the
+/// period (from the episode's start). The simulator and the navigator keep the same schedule,
+/// so in lock-step the navigator knows which steps bring a scan.
+#[derive(Debug, Clone, Copy)]
+pub struct ScanSchedule {
+    /// Period between scans (s).
+    pub period: f64,
+    /// Scans taken so far.
+    pub taken: u64,
+}
+
+impl ScanSchedule {
+    /// A schedule with `period` (s), no scan taken yet.
+    pub fn new(period: f64) -> Self {
+        Self { period, taken: 0 }
+    }
+    /// Whether a scan is due at episode time `t` (s).
+    pub fn due(&self, t: f64) -> bool {
+        t + 1e-9 >= self.taken as f64 * self.period
+    }
+}
+
+/// The navigator's side of one episode, independent of the transport: fed the step's inputs
+/// (in-process by the runner, over ROS by the nav node), it answers with a command. Both
+/// transports run this same code, so their results are identical.
+pub struct NavBrain {
+    nav: Navigator,
+    amcl: Option<Amcl>,
+    localization: Localization,
+    map_to_odom: Pose2,
+    scans: ScanSchedule,
+    err_sum: [f64; 2],
+    err_n: usize,
+}
+
+/// What the navigator asks for after a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NavReply {
+    /// Drive with this velocity for one controller period.
+    Drive(xhab_types::Twist),
+    /// The goal is reached: call Habitat's stop.
+    Stop,
+    /// The navigator gave up (no plan, recoveries exhausted).
+    Abort,
+}
+
+/// One step's inputs to the navigator.
+#[derive(Debug, Clone, Copy)]
+pub struct NavInputs<'a> {
+    /// Time since the episode began (s), rounded to the nanosecond as ROS stamps carry it.
+    pub t: f64,
+    /// Odometry pose of the base in the odom frame (m, rad).
+    pub odom: Pose2,
+    /// Measured base velocity (m/s, rad/s).
+    pub twist: xhab_types::Twist,
+    /// Ground-truth pose (m, rad): used by ground-truth localisation and to score AMCL.
+    pub truth: Option<Pose2>,
+    /// The scan taken at this step, if one is due (see [`NavBrain::scan_due`]).
+    pub scan: Option<&'a xhab_types::LaserScan>,
+}
+
+impl NavBrain {
+    /// A navigator on `map` heading for `goal`; AMCL (when asked) starts at `start` with ROS's
+    /// initial spread (0.5 m, pi/12 rad), or the spread given.
+    pub fn new(setup: &NavSetup, map: &OccupancyGrid, goal: xhab_types::Point2, start: Pose2, spread: Option<(f64, f64)>, seed: u64) -> NavBrain {
+        let mut nav = Navigator::new(setup.params.clone());
+        nav.set_map(map);
+        nav.set_goal(goal, 0.0);
+        let amcl = (setup.localization == Localization::Amcl).then(|| {
+            let mut a = Amcl::new(map, setup.params.amcl.clone(), seed);
+            let (sxy, syaw) = spread.unwrap_or((0.5, std::f64::consts::PI / 12.0));
+            a.init(start, sxy, syaw);
+            a
+        });
+        NavBrain { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0 }
+    }
+
+    /// Whether a scan is due at episode time `t` (s) (see [`ScanSchedule`]).
+    pub fn scan_due(&self, t: f64) -> bool {
+        self.scans.due(t)
+    }
+
+    /// One controller step.
+    pub fn step(&mut self, inp: NavInputs<'_>) -> NavReply {
+        let mut pose = match (self.localization, inp.truth) {
+            (Localization::GroundTruth, Some(t)) => t,
+            _ => self.map_to_odom.compose(inp.odom),
+        };
+        if let Some(scan) = inp.scan {
+            self.scans.taken += 1;
+            if let Some(a) = self.amcl.as_mut() {
+                if a.update(inp.odom, scan, Pose2::default()) {
+                    self.map_to_odom = a.map_to_odom(inp.odom);
+                    pose = self.map_to_odom.compose(inp.odom);
+                    if let Some(truth) = inp.truth {
+                        self.err_sum[0] += pose.position().dist(truth.position());
+                        self.err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
+                        self.err_n += 1;
+                    }
+                }
+            }
+            // Taken where the robot is, placed where it believes it is.
+            self.nav.add_scan(scan, pose);
+        }
+        let cmd = self.nav.tick(inp.t, pose, inp.twist);
+        match cmd.status {
+            NavStatus::Succeeded => NavReply::Stop,
+            NavStatus::Aborted => NavReply::Abort,
+            _ => NavReply::Drive(cmd.twist),
+        }
+    }
+
+    /// The map -> odom correction (identity without AMCL).
+    pub fn map_to_odom(&self) -> Pose2 {
+        self.map_to_odom
+    }
+
+    /// The AMCL filter, if localising with it.
+    pub fn amcl(&self) -> Option<&Amcl> {
+        self.amcl.as_ref()
+    }
+
+    /// The navigator.
+    pub fn navigator(&self) -> &Navigator {
+        &self.nav
+    }
+
+    /// Mean localisation error so far: position (m), heading (rad); `None` before any update.
+    pub fn localization_error(&self) -> Option<[f64; 2]> {
+        (self.err_n > 0).then(|| [self.err_sum[0] / self.err_n as f64, self.err_sum[1] / self.err_n as f64])
+    }
+}
+
+/// Episode time of `sim_s`, rounded to the nanosecond (what a ROS stamp carries).
+pub fn episode_time(sim_s: f64) -> f64 {
+    (sim_s * 1e9).round() / 1e9
+}
+
 /// Runs one episode with the navigator on `env` (already reset), returning its outcome.
 pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
-    let mut nav = Navigator::new(setup.params.clone());
-    match &setup.map {
-        Some(m) => nav.set_map(m),
-        None => nav.set_map(&grid.occupancy_grid()),
-    }
-    nav.set_goal(goal, 0.0);
+    let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
+    let mut brain = NavBrain::new(setup, &map, goal, env.odometry(), None, cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));
-    let mut next_scan = 0.0;
-    let mut amcl = (setup.localization == Localization::Amcl).then(|| {
-        let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
-        let mut a = Amcl::new(&map, setup.params.amcl.clone(), cfg.seed);
-        a.init(env.odometry(), 0.5, std::f64::consts::PI / 12.0);
-        a
-    });
-    // map -> odom: identity until AMCL corrects it (odometry starts at the true start pose).
-    let mut map_to_odom = Pose2::default();
-    let (mut err_sum, mut err_n) = ([0.0f64; 2], 0usize);
+    let mut aborted = false;
     while !env.is_done() {
-        let mut pose: Pose2 = match setup.localization {
-            Localization::GroundTruth => env.pose(),
-            Localization::Odom | Localization::Amcl => map_to_odom.compose(env.odometry()),
+        let t = episode_time(env.sim_s());
+        let scan = match lidar.as_mut() {
+            Some((rs, l)) if brain.scan_due(t) => Some(l.scan(rs, env.pose(), grid.floor_z)),
+            _ => None,
         };
-        if let Some((rs, l)) = lidar.as_mut() {
-            if env.sim_s() + 1e-9 >= next_scan {
-                // Taken where the robot is, placed where it believes it is.
-                let scan = l.scan(rs, env.pose(), grid.floor_z);
-                if let Some(a) = amcl.as_mut() {
-                    if a.update(env.odometry(), &scan, Pose2::default()) {
-                        map_to_odom = a.map_to_odom(env.odometry());
-                        pose = map_to_odom.compose(env.odometry());
-                        let truth = env.pose();
-                        err_sum[0] += pose.position().dist(truth.position());
-                        err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
-                        err_n += 1;
-                    }
-                }
-                nav.add_scan(&scan, pose);
-                next_scan += setup.scan_period;
+        let inp = NavInputs { t, odom: env.odometry(), twist: env.robot().twist(), truth: Some(env.pose()), scan: scan.as_ref() };
+        match brain.step(inp) {
+            NavReply::Stop => env.call_stop(),
+            NavReply::Abort => {
+                aborted = true;
+                break;
             }
-        }
-        let cmd = nav.tick(env.sim_s(), pose, env.robot().twist());
-        match cmd.status {
-            NavStatus::Succeeded => env.call_stop(),
-            NavStatus::Aborted => break,
-            _ => env.drive(cmd.twist, period),
+            NavReply::Drive(tw) => env.drive(tw, period),
         }
         if let Some(t) = traj.as_mut() {
             t.push(env.pose());
@@ -102,7 +213,7 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
         wall_s: t0.elapsed().as_secs_f64(),
         trajectory: traj,
         sim_s: Some(env.sim_s()),
-        stuck: Some(env.stuck() || nav.status() == NavStatus::Aborted),
-        localization_error: (err_n > 0).then(|| [err_sum[0] / err_n as f64, err_sum[1] / err_n as f64]),
+        stuck: Some(env.stuck() || aborted),
+        localization_error: brain.localization_error(),
     })
 }

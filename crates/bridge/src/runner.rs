@@ -84,50 +84,64 @@ pub enum Outcome {
     Invalid(InvalidRun),
 }
 
+/// An environment made for one episode.
+pub(crate) enum MadeEnv {
+    /// Teleport-and-slide.
+    Plain(Env),
+    /// Under physics.
+    Physics(PhysicsEnv),
+}
+
+impl MadeEnv {
+    /// The environment as the runner steps it.
+    pub(crate) fn as_dyn(&mut self) -> &mut dyn DiscreteEnv {
+        match self {
+            MadeEnv::Plain(e) => e,
+            MadeEnv::Physics(e) => e,
+        }
+    }
+}
+
+/// Checks episode `ep` (number `index`) for the run and builds its environment and grid, or
+/// says why it cannot run.
+pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Result<(MadeEnv, Arc<xhab_sim::navgrid::NavGrid>), String> {
+    let grid = world.grid_at(ep.start_position.z).map_err(|e| e.to_string())?;
+    for g in &ep.goals {
+        if (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH {
+            return Err(format!("goal at height {:.3} m is not on the start's floor", g.position.z));
+        }
+    }
+    match &cfg.physics {
+        Some(ph) => {
+            let seed = cfg.seed.wrapping_add(index as u64);
+            let e = PhysicsEnv::new(grid.clone(), &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed).map_err(|e| e.to_string())?;
+            if cfg.agent == AgentKind::Nav && cfg.nav.is_none() {
+                return Err("the nav agent needs its navigation setup".into());
+            }
+            Ok((MadeEnv::Physics(e), grid))
+        }
+        None if cfg.agent == AgentKind::Nav => Err("the nav agent drives with velocities: it needs --physics".into()),
+        None => Ok((MadeEnv::Plain(Env::new(grid.clone(), ep, cfg.task.clone()).map_err(|e| e.to_string())?), grid)),
+    }
+}
+
 /// Runs one episode (number `index` in its dataset) with a fresh agent.
 pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Outcome {
     let t0 = Instant::now();
     let invalid = |reason: String| Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason });
-    let grid = match world.grid_at(ep.start_position.z) {
-        Ok(g) => g,
-        Err(e) => return invalid(e.to_string()),
+    let (mut made, grid) = match make_env(world, ep, index, cfg) {
+        Ok(m) => m,
+        Err(reason) => return invalid(reason),
     };
-    for g in &ep.goals {
-        if (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH {
-            return invalid(format!("goal at height {:.3} m is not on the start's floor", g.position.z));
-        }
+    if let (MadeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
+        let goal = ep.goals[0].position.xy();
+        return crate::nav_agent::run_nav(e, &grid, &ep.episode_id, goal, setup, cfg, t0);
     }
-    let mut physics_env = None;
-    let mut plain_env = None;
-    match &cfg.physics {
-        Some(ph) => {
-            let seed = cfg.seed.wrapping_add(index as u64);
-            match PhysicsEnv::new(grid.clone(), &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed) {
-                Ok(mut e) => {
-                    if let (AgentKind::Nav, Some(setup)) = (cfg.agent, &cfg.nav) {
-                        let goal = ep.goals[0].position.xy();
-                        return crate::nav_agent::run_nav(&mut e, &grid, &ep.episode_id, goal, setup, cfg, t0);
-                    }
-                    physics_env = Some(e)
-                }
-                Err(e) => return invalid(e.to_string()),
-            }
-        }
-        None if cfg.agent == AgentKind::Nav => return invalid("the nav agent drives with velocities: it needs --physics".into()),
-        None => match Env::new(grid, ep, cfg.task.clone()) {
-            Ok(e) => plain_env = Some(e),
-            Err(e) => return invalid(e.to_string()),
-        },
-    }
-    let env: &mut dyn DiscreteEnv = match (&mut physics_env, &mut plain_env) {
-        (Some(p), _) => p,
-        (_, Some(e)) => e,
-        _ => unreachable!("one of the two environments was built"),
-    };
     let Some(mut agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));
     };
     agent.reset();
+    let env = made.as_dyn();
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     while !env.is_done() {
         let a = agent.act(env);
@@ -136,13 +150,18 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
             t.push(env.pose());
         }
     }
+    let (sim_s, stuck) = match &made {
+        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
+        MadeEnv::Plain(_) => (None, None),
+    };
+    let env = made.as_dyn();
     Outcome::Ran(EpisodeRun {
         episode_id: ep.episode_id.clone(),
         metrics: env.metrics(),
         wall_s: t0.elapsed().as_secs_f64(),
         trajectory: traj,
-        sim_s: physics_env.as_ref().map(|p| p.sim_s()),
-        stuck: physics_env.as_ref().map(|p| p.stuck()),
+        sim_s,
+        stuck,
         localization_error: None,
     })
 }
@@ -206,6 +225,9 @@ pub struct Aggregate {
     /// Mean heading error (degrees) over episodes that report one (AMCL runs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub localization_error_deg: Option<f64>,
+    /// Wall time over ROS divided by wall time in-process (`--compare-ros` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros_overhead: Option<f64>,
 }
 
 /// Why episodes failed (each failed episode counts once, in the first matching cause).
@@ -241,6 +263,7 @@ pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
     Aggregate {
         localization_error_m: loc_mean(0),
         localization_error_deg: loc_mean(1).map(f64::to_degrees),
+        ros_overhead: None,
         sim_s: physics.then_some(sim_s),
         real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
         stuck: physics.then(|| runs.iter().filter(|r| r.stuck == Some(true)).count() as f64 / n),

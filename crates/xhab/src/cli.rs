@@ -215,6 +215,18 @@ pub struct BenchArgs {
     /// Run the nav agent without its planar lidar (static map only, no obstacle layer).
     #[arg(long, help_heading = "Navigation")]
     pub no_scans: bool,
+    /// Run the agent and the simulator as separate ROS 1 nodes through a real rosmaster, in lock-step.
+    #[arg(long, help_heading = "ROS")]
+    pub ros: bool,
+    /// Run in-process and over ROS, check that the results agree, report aggregate.ros_overhead.
+    #[arg(long, help_heading = "ROS")]
+    pub compare_ros: bool,
+    /// The ROS master (http://HOST:PORT) [default: start `rosmaster` for the run].
+    #[arg(long, value_name = "URI", help_heading = "ROS")]
+    pub ros_master: Option<String>,
+    /// Seconds to wait for a ROS peer before failing.
+    #[arg(long, default_value_t = 30.0, help_heading = "ROS")]
+    pub ros_timeout: f64,
     #[command(flatten)]
     pub physics: PhysicsOpts,
     #[command(flatten)]

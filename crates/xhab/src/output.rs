@@ -31,6 +31,22 @@ pub struct BenchReport {
     pub invalid: InvalidReport,
     /// One entry per valid episode, in file order.
     pub episodes: Vec<EpisodeReport>,
+    /// Whether the agent and the simulator ran as ROS nodes (`--ros`, `--compare-ros`).
+    pub ros: bool,
+    /// How the ROS run compares with the in-process run (`--compare-ros` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros_check: Option<RosCheck>,
+}
+
+/// Agreement of a run over ROS with the same run in-process.
+#[derive(Debug, Clone, Serialize)]
+pub struct RosCheck {
+    /// Same episodes, same steps, collisions and stop calls, metrics within 1e-9.
+    pub identical: bool,
+    /// Largest absolute difference of success, spl, soft_spl, distance_to_goal, path_length.
+    pub max_metric_diff: f64,
+    /// Episodes whose step or collision count or stop call differ.
+    pub episodes_with_other_steps: usize,
 }
 
 /// Invalid episodes.

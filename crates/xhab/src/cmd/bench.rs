@@ -12,6 +12,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 use xhab_bridge::agents::AgentKind;
 use std::sync::Arc;
+use crate::output::RosCheck;
+use xhab_bridge::ros::bench::{run_dataset_ros, RosOptions};
 use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, PhysicsSetup, RunConfig};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
@@ -43,7 +45,27 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         AgentArg::Oracle => None,
     };
     let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav };
-    let (report, outcomes) = bench(&world, &ds, &cfg, &a.scene, &a.episodes.display().to_string(), quiet)?;
+    let ros = (a.ros || a.compare_ros).then(|| RosOptions { master: a.ros_master.clone(), timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)) });
+    if ros.is_some() && cfg.threads > 1 {
+        eprintln!("xhab: note: over ROS episodes run one at a time (lock-step); --threads applies to the in-process run only");
+    }
+    let world = Arc::new(world);
+    let name = a.episodes.display().to_string();
+    let (report, outcomes) = if a.compare_ros {
+        let (local, local_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, None)?;
+        let (mut remote, remote_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, ros.as_ref())?;
+        let diff = compare_outcomes(&local_out, &remote_out);
+        remote.aggregate.ros_overhead = Some(remote.aggregate.wall_s / local.aggregate.wall_s.max(1e-9));
+        remote.ros_check = Some(diff.clone());
+        eprintln!(
+            "xhab: over ROS {:.2} s, in-process {:.2} s (overhead {:.2}x); results {} (max metric difference {:.1e}, {} episodes with other steps)",
+            remote.aggregate.wall_s, local.aggregate.wall_s, remote.aggregate.ros_overhead.unwrap_or(0.0),
+            if diff.identical { "identical" } else { "DIFFER" }, diff.max_metric_diff, diff.episodes_with_other_steps
+        );
+        (remote, remote_out)
+    } else {
+        bench(&world, &ds, &cfg, &a.scene, &name, quiet, ros.as_ref())?
+    };
     if let Some(dir) = &a.trajectories {
         draw_trajectories(&world, &ds, &outcomes, dir)?;
     }
@@ -116,16 +138,20 @@ pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSet
 
 /// Runs the benchmark and builds its report (warnings for invalid episodes on stderr).
 pub fn bench(
-    world: &World,
+    world: &Arc<World>,
     ds: &Dataset,
     cfg: &RunConfig,
     scene: &str,
     episodes_file: &str,
     quiet: bool,
+    ros: Option<&RosOptions>,
 ) -> Result<(BenchReport, Vec<Outcome>)> {
     let pb = super::progress(ds.episodes.len(), quiet, cfg.agent.name());
     let t0 = Instant::now();
-    let outcomes = run_dataset(world, ds, cfg, &|| pb.inc(1));
+    let outcomes = match ros {
+        None => run_dataset(world, ds, cfg, &|| pb.inc(1)),
+        Some(o) => run_dataset_ros(world.clone(), ds, cfg, o, &|| pb.inc(1)).context("running the benchmark over ROS")?,
+    };
     let wall = t0.elapsed().as_secs_f64();
     pb.finish_and_clear();
     let mut runs: Vec<&EpisodeRun> = Vec::new();
@@ -155,8 +181,33 @@ pub fn bench(
             reasons: invalid,
         },
         episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
+        ros: ros.is_some(),
+        ros_check: None,
     };
     Ok((report, outcomes))
+}
+
+/// How a run over ROS compares with the same run in-process.
+fn compare_outcomes(a: &[Outcome], b: &[Outcome]) -> RosCheck {
+    let mut max_diff = 0.0f64;
+    let mut other_steps = 0;
+    let mut same_set = a.len() == b.len();
+    for (x, y) in a.iter().zip(b) {
+        match (x, y) {
+            (Outcome::Ran(x), Outcome::Ran(y)) => {
+                let (m, n) = (&x.metrics, &y.metrics);
+                for (p, q) in [(m.success, n.success), (m.spl, n.spl), (m.soft_spl, n.soft_spl), (m.distance_to_goal, n.distance_to_goal), (m.path_length, n.path_length)] {
+                    max_diff = max_diff.max((p - q).abs());
+                }
+                if m.steps != n.steps || m.collisions != n.collisions || m.called_stop != n.called_stop {
+                    other_steps += 1;
+                }
+            }
+            (Outcome::Invalid(_), Outcome::Invalid(_)) => {}
+            _ => same_set = false,
+        }
+    }
+    RosCheck { identical: same_set && other_steps == 0 && max_diff <= 1e-9, max_metric_diff: max_diff, episodes_with_other_steps: other_steps }
 }
 
 /// Prints the summary table on stdout.

@@ -1,0 +1,193 @@
+//! The benchmark over ROS: the simulator and the agent as separate nodes talking through a real
+//! rosmaster, in lock-step, so that every step and metric equals the in-process run.
+
+use super::master::Master;
+use super::node::RosError;
+use super::sim_node::{Command, RobotState, SimNode};
+use crate::agents::AgentKind;
+use crate::nav_agent::{episode_time, NavSetup, ScanSchedule};
+use crate::runner::{make_env, EpisodeRun, InvalidRun, MadeEnv, Outcome, RunConfig};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use xhab_sim::action::Action;
+use xhab_sim::env::{DiscreteEnv, EnvView};
+use xhab_sim::episode::Dataset;
+use xhab_sim::sensors::Lidar;
+use xhab_sim::world::World;
+use xhab_types::Pose2;
+
+/// Where the ROS run finds its master, and how patient it is.
+#[derive(Debug, Clone)]
+pub struct RosOptions {
+    /// `http://host:port` of a running master; `None` starts `rosmaster` for the run.
+    pub master: Option<String>,
+    /// How long to wait for a peer before failing (s).
+    pub timeout: Duration,
+}
+
+impl Default for RosOptions {
+    fn default() -> Self {
+        Self { master: None, timeout: Duration::from_secs(30) }
+    }
+}
+
+/// Runs every episode of `ds` over ROS, one at a time (lock-step is sequential by nature).
+/// `progress` is called once per finished episode.
+pub fn run_dataset_ros(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &RosOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, RosError> {
+    let master = Master::connect_or_start(opts.master.as_deref())?;
+    let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build().map_err(|e| RosError::Node(format!("tokio runtime: {e}")))?;
+    rt.block_on(run_all(&master.uri, world, ds, cfg, opts, progress))
+}
+
+async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &RosOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, RosError> {
+    let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
+    let (stats_tx, mut stats_rx) = tokio::sync::mpsc::unbounded_channel();
+    let agent = match (cfg.agent, &cfg.nav) {
+        (AgentKind::Nav, Some(setup)) => {
+            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.lidar.is_some(), seed: cfg.seed, timeout: opts.timeout };
+            let uri = uri.to_string();
+            tokio::spawn(async move { super::nav_node::run(&uri, "xhab_nav", o, None, stop_rx, Some(stats_tx)).await })
+        }
+        (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
+        (kind, _) => {
+            let (uri, world, task, timeout) = (uri.to_string(), world.clone(), cfg.task.clone(), opts.timeout);
+            tokio::spawn(async move { super::agent_node::run(&uri, "xhab_agent", world, kind, task, timeout, stop_rx).await })
+        }
+    };
+    let mut sim = SimNode::new(uri, "xhab_sim", opts.timeout).await?;
+    let wanted: &[&str] = match cfg.agent {
+        AgentKind::Nav => &["odom", "move_base_simple/goal", "initialpose"],
+        _ => &["ground_truth/pose", "move_base_simple/goal"],
+    };
+    sim.wait_for(wanted).await?;
+    if let Some(nav) = &cfg.nav {
+        if cfg.agent == AgentKind::Nav && nav.lidar.is_some() {
+            sim.wait_for(&["scan"]).await?;
+        }
+    }
+    let mut clock_ns: i64 = 0;
+    let mut outcomes = Vec::with_capacity(ds.episodes.len());
+    let mut ran = Vec::new();
+    for (i, ep) in ds.episodes.iter().enumerate() {
+        let t0 = Instant::now();
+        let o = match make_env(&world, ep, i, cfg) {
+            Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
+            Ok((made, grid)) => {
+                let r = episode(&mut sim, made, &grid, ep, i, cfg, &mut clock_ns).await;
+                match r {
+                    Ok(mut run) => {
+                        run.wall_s = t0.elapsed().as_secs_f64();
+                        ran.push(outcomes.len());
+                        Outcome::Ran(run)
+                    }
+                    Err(e) => {
+                        let _ = stop_tx.send(true);
+                        return Err(e);
+                    }
+                }
+            }
+        };
+        outcomes.push(o);
+        progress();
+    }
+    let _ = stop_tx.send(true);
+    match agent.await {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(e),
+        Err(e) => return Err(RosError::Node(format!("agent node task: {e}"))),
+    }
+    if cfg.agent == AgentKind::Nav {
+        for &k in &ran {
+            if let (Some(stat), Outcome::Ran(r)) = (stats_rx.recv().await, &mut outcomes[k]) {
+                r.localization_error = stat;
+            }
+        }
+    }
+    Ok(outcomes)
+}
+
+/// Runs one episode through the simulator node; the agent node answers each step.
+async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navgrid::NavGrid>, ep: &xhab_sim::episode::Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
+    let start_z = ep.start_position.z;
+    let goal = ep.goals[0].position.xy();
+    let goal_pose = Pose2::new(goal.x, goal.y, 0.0);
+    let base_ns = *clock_ns;
+    let stamp = |t: f64| (base_ns + (t * 1e9).round() as i64) as f64 / 1e9;
+    let mut traj = cfg.record_trajectories.then(|| vec![made.as_dyn().pose()]);
+    let mut aborted = false;
+    let mut end_t = 0.0;
+    match (&mut made, cfg.agent, &cfg.nav) {
+        (MadeEnv::Physics(env), AgentKind::Nav, Some(setup)) => {
+            let setup: &NavSetup = setup;
+            let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
+            sim.publish_map(stamp(0.0), &map).await?;
+            sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
+            sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), 0.5, std::f64::consts::PI / 12.0).await?;
+            let period = setup.params.dwa.controller_period.max(1e-3);
+            let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), p.clone(), Lidar::new(p.clone(), cfg.seed)));
+            // The same schedule as the navigator's (a scan every scan_period from 0).
+            let mut sched = ScanSchedule::new(setup.scan_period);
+            let mut seq = 0u32;
+            while !env.is_done() {
+                let t = episode_time(env.sim_s());
+                let scan = match lidar.as_mut() {
+                    Some((rs, _, l)) if sched.due(t) => {
+                        sched.taken += 1;
+                        Some(l.scan(rs, env.pose(), grid.floor_z))
+                    }
+                    _ => None,
+                };
+                let laser_z = lidar.as_ref().map_or(0.0, |(_, p, _)| p.mount_height);
+                let st = RobotState { seq, stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period, laser_z)) };
+                sim.publish_state(&st).await?;
+                match sim.next_command().await? {
+                    Command::Twist(tw) => env.drive(tw, period),
+                    Command::Action(0) => env.call_stop(),
+                    Command::Action(-1) => {
+                        aborted = true;
+                        break;
+                    }
+                    Command::Action(a) => return Err(RosError::Protocol(format!("action {a} from the nav node (0 = stop, -1 = give up)"))),
+                }
+                seq += 1;
+                if let Some(tr) = traj.as_mut() {
+                    tr.push(env.pose());
+                }
+            }
+            end_t = env.sim_s();
+        }
+        (made, _, _) => {
+            let env = made.as_dyn();
+            sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
+            let mut seq = 0u32;
+            while !env.is_done() {
+                // Discrete steps are one control period apart on the clock.
+                let t = seq as f64;
+                let p = env.pose();
+                let st = RobotState { seq, stamp: stamp(t), truth: p, floor_z: start_z, odom: p, twist: Default::default(), scan: None };
+                sim.publish_state(&st).await?;
+                match sim.next_command().await? {
+                    Command::Action(a) => match Action::from_index(a as i64) {
+                        Some(a) => {
+                            env.step(a);
+                        }
+                        None => return Err(RosError::Protocol(format!("action {a} is not one of Habitat's 0..=3"))),
+                    },
+                    Command::Twist(_) => return Err(RosError::Protocol("discrete run: got cmd_vel where an action was expected".into())),
+                }
+                seq += 1;
+                if let Some(tr) = traj.as_mut() {
+                    tr.push(env.pose());
+                }
+                end_t = seq as f64;
+            }
+        }
+    }
+    // The next episode's clock starts a second after this one ended.
+    *clock_ns = base_ns + (end_t * 1e9).round() as i64 + 1_000_000_000;
+    let (sim_s, stuck) = match &made {
+        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck() || aborted)),
+        MadeEnv::Plain(_) => (None, None),
+    };
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None })
+}

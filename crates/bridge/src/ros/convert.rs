@@ -1,0 +1,167 @@
+//! Conversions between xhab's types and ROS 1 messages (REP-103 frames, REP-105 names).
+
+use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs};
+use roslibrust::codegen::integral_types::Time;
+use xhab_types::{DepthImage, Intrinsics, LaserScan, OccupancyGrid, Pose2, Twist};
+
+/// ROS time of `t` simulated seconds (rounded to the nanosecond).
+pub fn time(t: f64) -> Time {
+    let ns = (t.max(0.0) * 1e9).round() as i64;
+    Time { secs: (ns / 1_000_000_000) as i32, nsecs: (ns % 1_000_000_000) as i32 }
+}
+
+/// Seconds of a ROS time.
+pub fn seconds(t: &Time) -> f64 {
+    t.secs as f64 + t.nsecs as f64 * 1e-9
+}
+
+/// A header with sequence number `seq`, stamp `t` (s) and frame `frame`.
+pub fn header(seq: u32, t: f64, frame: &str) -> std_msgs::Header {
+    std_msgs::Header { seq, stamp: time(t), frame_id: frame.to_string() }
+}
+
+/// The quaternion of a rotation by `yaw` (rad) about z.
+pub fn yaw_to_quaternion(yaw: f64) -> gm::Quaternion {
+    let (s, c) = (0.5 * yaw).sin_cos();
+    gm::Quaternion { x: 0.0, y: 0.0, z: s, w: c }
+}
+
+/// The yaw (rad, in (-pi, pi]) of a quaternion (its rotation about z; roll and pitch ignored).
+pub fn quaternion_to_yaw(q: &gm::Quaternion) -> f64 {
+    (2.0 * (q.w * q.z + q.x * q.y)).atan2(1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+}
+
+/// A pose at height `z` (m).
+pub fn pose(p: Pose2, z: f64) -> gm::Pose {
+    gm::Pose { position: gm::Point { x: p.x, y: p.y, z }, orientation: yaw_to_quaternion(p.yaw) }
+}
+
+/// The planar pose of a ROS pose.
+pub fn pose2(p: &gm::Pose) -> Pose2 {
+    Pose2::new(p.position.x, p.position.y, quaternion_to_yaw(&p.orientation))
+}
+
+/// A transform for a planar pose at height `z`.
+pub fn transform(p: Pose2, z: f64) -> gm::Transform {
+    gm::Transform { translation: gm::Vector3 { x: p.x, y: p.y, z }, rotation: yaw_to_quaternion(p.yaw) }
+}
+
+/// A stamped transform `parent -> child`.
+pub fn tf(t: f64, parent: &str, child: &str, tr: gm::Transform) -> gm::TransformStamped {
+    gm::TransformStamped { header: header(0, t, parent), child_frame_id: child.to_string(), transform: tr }
+}
+
+/// A base-frame velocity as a ROS Twist.
+pub fn twist(t: Twist) -> gm::Twist {
+    gm::Twist { linear: gm::Vector3 { x: t.linear, y: 0.0, z: 0.0 }, angular: gm::Vector3 { x: 0.0, y: 0.0, z: t.angular } }
+}
+
+/// The planar part of a ROS Twist (linear.x, angular.z).
+pub fn twist2(t: &gm::Twist) -> Twist {
+    Twist { linear: t.linear.x, angular: t.angular.z }
+}
+
+/// sensor_msgs/LaserScan of a scan taken at `t` (s) in `frame`; NaN ranges become +inf
+/// (no return), as drivers report them; `scan_time` is the period between scans (s).
+pub fn laser_scan(seq: u32, t: f64, frame: &str, s: &LaserScan, scan_time: f64) -> sensor_msgs::LaserScan {
+    sensor_msgs::LaserScan {
+        header: header(seq, t, frame),
+        angle_min: s.angle_min as f32,
+        angle_max: s.angle_max as f32,
+        angle_increment: s.angle_increment as f32,
+        time_increment: 0.0,
+        scan_time: scan_time as f32,
+        range_min: s.range_min as f32,
+        range_max: s.range_max as f32,
+        ranges: s.ranges.iter().map(|&r| if r.is_nan() { f32::INFINITY } else { r }).collect(),
+        intensities: Vec::new(),
+    }
+}
+
+/// Our scan of a sensor_msgs/LaserScan: ranges outside [range_min, range_max] become NaN.
+pub fn scan_from_msg(m: &sensor_msgs::LaserScan) -> LaserScan {
+    let (lo, hi) = (m.range_min, m.range_max);
+    LaserScan {
+        angle_min: m.angle_min as f64,
+        angle_max: m.angle_max as f64,
+        angle_increment: m.angle_increment as f64,
+        range_min: lo as f64,
+        range_max: hi as f64,
+        ranges: m.ranges.iter().map(|&r| if r >= lo && r <= hi { r } else { f32::NAN }).collect(),
+    }
+}
+
+/// nav_msgs/Odometry: `odom` pose of `base_link` and its velocity in `base_link`.
+pub fn odometry(seq: u32, t: f64, p: Pose2, v: Twist) -> nav_msgs::Odometry {
+    nav_msgs::Odometry {
+        header: header(seq, t, "odom"),
+        child_frame_id: "base_link".into(),
+        pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: [0.0; 36] },
+        twist: gm::TwistWithCovariance { twist: twist(v), covariance: [0.0; 36] },
+    }
+}
+
+/// nav_msgs/OccupancyGrid of a map (frame `map`); the resolution travels as f32, as in ROS.
+pub fn occupancy_grid(t: f64, g: &OccupancyGrid) -> nav_msgs::OccupancyGrid {
+    nav_msgs::OccupancyGrid {
+        header: header(0, t, "map"),
+        info: nav_msgs::MapMetaData {
+            map_load_time: time(t),
+            resolution: g.resolution as f32,
+            width: g.width as u32,
+            height: g.height as u32,
+            origin: pose(g.origin, 0.0),
+        },
+        data: g.data.clone(),
+    }
+}
+
+/// Our map of a nav_msgs/OccupancyGrid; an error when the data length does not match.
+pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, String> {
+    let (w, h) = (m.info.width as usize, m.info.height as usize);
+    if m.data.len() != w * h {
+        return Err(format!("map: {} cells of data for {w} x {h}", m.data.len()));
+    }
+    if !(m.info.resolution > 0.0 && m.info.resolution.is_finite()) {
+        return Err(format!("map: bad resolution {}", m.info.resolution));
+    }
+    Ok(OccupancyGrid { width: w, height: h, resolution: m.info.resolution as f64, origin: pose2(&m.info.origin), data: m.data.clone() })
+}
+
+/// A 32FC1 depth image (metres, little-endian, 0 where nothing is hit) in `frame`.
+pub fn depth_image(seq: u32, t: f64, frame: &str, d: &DepthImage) -> sensor_msgs::Image {
+    let mut data = Vec::with_capacity(d.data.len() * 4);
+    for v in &d.data {
+        data.extend_from_slice(&v.to_le_bytes());
+    }
+    sensor_msgs::Image { header: header(seq, t, frame), height: d.height as u32, width: d.width as u32, encoding: "32FC1".into(), is_bigendian: 0, step: 4 * d.width as u32, data }
+}
+
+/// An rgb8 image in `frame`.
+pub fn rgb_image(seq: u32, t: f64, frame: &str, width: usize, height: usize, rgb: Vec<u8>) -> sensor_msgs::Image {
+    sensor_msgs::Image { header: header(seq, t, frame), height: height as u32, width: width as u32, encoding: "rgb8".into(), is_bigendian: 0, step: 3 * width as u32, data: rgb }
+}
+
+/// sensor_msgs/CameraInfo of a pinhole camera without distortion (plumb_bob, zeros).
+pub fn camera_info(seq: u32, t: f64, frame: &str, width: usize, height: usize, k: &Intrinsics) -> sensor_msgs::CameraInfo {
+    sensor_msgs::CameraInfo {
+        header: header(seq, t, frame),
+        height: height as u32,
+        width: width as u32,
+        distortion_model: "plumb_bob".into(),
+        D: vec![0.0; 5],
+        K: [k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0],
+        R: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+        P: [k.fx, 0.0, k.cx, 0.0, 0.0, k.fy, k.cy, 0.0, 0.0, 0.0, 1.0, 0.0],
+        ..Default::default()
+    }
+}
+
+/// A pose with covariance: standard deviations `xy_std` (m) and `yaw_std` (rad).
+pub fn pose_with_covariance(seq: u32, t: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> gm::PoseWithCovarianceStamped {
+    let mut cov = [0.0; 36];
+    cov[0] = xy_std * xy_std;
+    cov[7] = xy_std * xy_std;
+    cov[35] = yaw_std * yaw_std;
+    gm::PoseWithCovarianceStamped { header: header(seq, t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: cov } }
+}
