@@ -8,6 +8,7 @@
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, std_msgs};
 use super::node::{self, RosError};
+use super::sim_node::{PROBE_SEQ, READY_ACTION};
 use crate::agents::AgentKind;
 use std::sync::Arc;
 use std::time::Duration;
@@ -49,20 +50,43 @@ pub async fn run(uri: &str, name: &str, world: Arc<World>, kind: AgentKind, task
     let mut poses = node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?;
     let mut goals = node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?;
     let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
+    tracing::debug!("agent node up");
     let mut view: Option<View> = None;
-    let mut announced = false;
+    let mut goal_probed = false;
+    let mut pending = std::collections::VecDeque::new();
+    let pub_err = |e: String| RosError::Node(format!("publishing on action: {e}"));
     loop {
         let m = tokio::select! {
             m = poses.recv() => match m { Some(m) => m, None => return Ok(()) },
             _ = shutdown.changed() => return Ok(()),
         };
-        if !announced {
-            node::wait_for_subscribers(&[("action", &action)], timeout).await?;
-            announced = true;
+        tracing::debug!("agent: pose seq {}", m.header.seq);
+        if m.header.seq == PROBE_SEQ {
+            // Handshake: answer once the goal topic has shown it is connected too.
+            while let Ok(g) = goals.try_recv() {
+                if g.header.seq == PROBE_SEQ {
+                    goal_probed = true;
+                } else {
+                    pending.push_back(g);
+                }
+            }
+            tracing::debug!("agent: probe (goal probed: {goal_probed})");
+            if goal_probed {
+                action.publish(&std_msgs::Int16 { data: READY_ACTION }).await.map_err(|e| pub_err(e.to_string()))?;
+            }
+            continue;
         }
         let pose = cv::pose2(&m.pose);
         if m.header.seq == 0 {
-            let g = node::recv(&mut goals, timeout, "goal for the new episode").await?;
+            let g = match pending.pop_front() {
+                Some(g) => g,
+                None => loop {
+                    let g = node::recv(&mut goals, timeout, "goal for the new episode").await?;
+                    if g.header.seq != PROBE_SEQ {
+                        break g;
+                    }
+                },
+            };
             let grid = world.grid_at(m.pose.position.z).map_err(|e| RosError::Protocol(format!("observation at height {:.3}: {e}", m.pose.position.z)))?;
             let goal = cv::pose2(&g.pose).position();
             let field = Arc::new(GeodesicField::new(&grid, &[goal]));
@@ -74,6 +98,6 @@ pub async fn run(uri: &str, name: &str, world: Arc<World>, kind: AgentKind, task
         };
         v.pose = pose;
         let a = agent.act(v);
-        action.publish(&std_msgs::Int16 { data: a as i16 }).await.map_err(|e| RosError::Node(format!("publishing on action: {e}")))?;
+        action.publish(&std_msgs::Int16 { data: a as i16 }).await.map_err(|e| pub_err(e.to_string()))?;
     }
 }

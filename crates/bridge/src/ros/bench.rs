@@ -55,15 +55,17 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         }
     };
     let mut sim = SimNode::new(uri, "xhab_sim", opts.timeout).await?;
-    let wanted: &[&str] = match cfg.agent {
-        AgentKind::Nav => &["odom", "move_base_simple/goal", "initialpose"],
-        _ => &["ground_truth/pose", "move_base_simple/goal"],
-    };
-    sim.wait_for(wanted).await?;
-    if let Some(nav) = &cfg.nav {
-        if cfg.agent == AgentKind::Nav && nav.lidar.is_some() {
-            sim.wait_for(&["scan"]).await?;
+    // Probes go first on the topics whose connection the trigger's answer must prove.
+    match (cfg.agent, &cfg.nav) {
+        (AgentKind::Nav, Some(nav)) => {
+            let mut topics = vec!["move_base_simple/goal", "initialpose", "map", "ground_truth/pose"];
+            if nav.lidar.is_some() {
+                topics.push("scan");
+            }
+            topics.push("odom");
+            sim.handshake(&topics, true).await?
         }
+        _ => sim.handshake(&["move_base_simple/goal", "ground_truth/pose"], false).await?,
     }
     let mut clock_ns: i64 = 0;
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
@@ -82,6 +84,10 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
                     }
                     Err(e) => {
                         let _ = stop_tx.send(true);
+                        // The agent's own failure, if it had one, is the cause.
+                        if let Ok(Ok(Err(a))) = tokio::time::timeout(Duration::from_secs(2), agent).await {
+                            return Err(RosError::Protocol(format!("the agent node failed: {a} (the simulator then reported: {e})")));
+                        }
                         return Err(e);
                     }
                 }

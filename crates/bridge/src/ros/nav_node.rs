@@ -12,7 +12,8 @@
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs, tf2_msgs};
-use super::node::{self, RosError};
+use super::node::{self, Inbox, RosError, Sequenced};
+use super::sim_node::{PROBE_SEQ, READY_ACTION};
 use crate::nav_agent::{NavBrain, NavInputs, NavReply, NavSetup};
 use roslibrust::ros1::Publisher;
 use std::time::Duration;
@@ -97,17 +98,16 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
         plan: node::advertise(&nh, "move_base/GlobalPlanner/plan", false).await?,
     };
     let mut odoms = node::subscribe::<nav_msgs::Odometry>(&nh, "odom").await?;
-    let mut scans = node::subscribe::<sensor_msgs::LaserScan>(&nh, "scan").await?;
-    let mut maps = node::subscribe::<nav_msgs::OccupancyGrid>(&nh, "map").await?;
-    let mut goals = node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?;
-    let mut inits = node::subscribe::<gm::PoseWithCovarianceStamped>(&nh, "initialpose").await?;
+    let mut scans = Inbox::new(node::subscribe::<sensor_msgs::LaserScan>(&nh, "scan").await?);
+    let mut maps = Inbox::new(node::subscribe::<nav_msgs::OccupancyGrid>(&nh, "map").await?);
+    let mut goals = Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?);
+    let mut inits = Inbox::new(node::subscribe::<gm::PoseWithCovarianceStamped>(&nh, "initialpose").await?);
     let want_truth = opts.lockstep && (opts.setup.localization == crate::nav_agent::Localization::GroundTruth || stats.is_some());
-    let mut truths = if want_truth { Some(node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?) } else { None };
+    let mut truths = if want_truth { Some(Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?)) } else { None };
     let mut current_map = map.clone();
     let mut brain: Option<NavBrain> = None;
     let mut episode_start_ns = 0i64;
     let mut last_tick: Option<f64> = None;
-    let mut connected = false;
     let mut pending_scan = None;
     let flush = |b: &Option<NavBrain>| {
         if let (Some(tx), Some(b)) = (stats.as_ref(), b.as_ref()) {
@@ -119,9 +119,22 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             m = odoms.recv() => match m { Some(m) => m, None => break },
             _ = shutdown.changed() => break,
         };
-        if opts.lockstep && !connected {
-            node::wait_for_subscribers(&[("cmd_vel", &out.cmd_vel), ("action", &out.action)], opts.timeout).await?;
-            connected = true;
+        if od.header.seq == PROBE_SEQ {
+            // Handshake: answer on both reply topics once every input has shown a probe.
+            for ib in [&mut goals as &mut dyn Absorb, &mut inits, &mut maps, &mut scans] {
+                ib.absorb_all();
+            }
+            if let Some(t) = truths.as_mut() {
+                t.absorb();
+            }
+            let ready = goals.probed && inits.probed && (map.is_some() || maps.probed) && (!opts.expect_scans || scans.probed) && truths.as_ref().is_none_or(|t| t.probed);
+            if ready && opts.lockstep {
+                let e = |x: String| RosError::Node(format!("publishing the handshake answer: {x}"));
+                out.action.publish(&std_msgs::Int16 { data: READY_ACTION }).await.map_err(|x| e(x.to_string()))?;
+                let probe = gm::Twist { linear: gm::Vector3 { x: 0.0, y: 0.0, z: 1.0 }, ..Default::default() };
+                out.cmd_vel.publish(&probe).await.map_err(|x| e(x.to_string()))?;
+            }
+            continue;
         }
         let stamp_ns = od.header.stamp.secs as i64 * 1_000_000_000 + od.header.stamp.nsecs as i64;
         let odom = cv::pose2(&od.pose.pose);
@@ -130,11 +143,11 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             if od.header.seq == 0 {
                 flush(&brain);
                 if map.is_none() {
-                    let m = node::recv(&mut maps, opts.timeout, "map for the new episode").await?;
+                    let m = maps.next(opts.timeout, "map for the new episode").await?;
                     current_map = Some(cv::grid_from_msg(&m).map_err(RosError::Protocol)?);
                 }
-                let g = node::recv(&mut goals, opts.timeout, "goal for the new episode").await?;
-                let ip = node::recv(&mut inits, opts.timeout, "initial pose for the new episode").await?;
+                let g = goals.next(opts.timeout, "goal for the new episode").await?;
+                let ip = inits.next(opts.timeout, "initial pose for the new episode").await?;
                 let spread = (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt());
                 let m = current_map.as_ref().ok_or_else(|| RosError::Protocol("no map".into()))?;
                 brain = Some(NavBrain::new(&opts.setup, m, cv::pose2(&g.pose).position(), cv::pose2(&ip.pose.pose), Some(spread), opts.seed));
@@ -145,7 +158,7 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             };
             let t = (stamp_ns - episode_start_ns) as f64 / 1e9;
             let scan = if opts.expect_scans && b.scan_due(t) {
-                let s = node::recv(&mut scans, opts.timeout, "scan due at this step").await?;
+                let s = scans.next(opts.timeout, "scan due at this step").await?;
                 if s.header.seq != od.header.seq {
                     return Err(RosError::Protocol(format!("scan seq {} where odometry seq {} was expected", s.header.seq, od.header.seq)));
                 }
@@ -155,7 +168,7 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             };
             let truth = match truths.as_mut() {
                 Some(rx) => {
-                    let g = node::recv(rx, opts.timeout, "ground truth of this step").await?;
+                    let g = rx.next(opts.timeout, "ground truth of this step").await?;
                     Some(cv::pose2(&g.pose))
                 }
                 None => None,
@@ -166,21 +179,15 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             continue;
         }
         // Free-running: take the newest map, goal and initial pose; feed every new scan.
-        while let Ok(m) = maps.try_recv() {
+        if let Some(m) = maps.latest() {
             match cv::grid_from_msg(&m) {
                 Ok(g) if map.is_none() => current_map = Some(g),
                 Ok(_) => {}
                 Err(e) => tracing::warn!("map: {e}"),
             }
         }
-        let mut init = None;
-        while let Ok(ip) = inits.try_recv() {
-            init = Some((cv::pose2(&ip.pose.pose), (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt())));
-        }
-        let mut goal = None;
-        while let Ok(g) = goals.try_recv() {
-            goal = Some(cv::pose2(&g.pose).position());
-        }
+        let init = inits.latest().map(|ip| (cv::pose2(&ip.pose.pose), (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt())));
+        let goal = goals.latest().map(|g| cv::pose2(&g.pose).position());
         let t = stamp_ns as f64 / 1e9;
         if let (Some(g), Some(m)) = (goal, current_map.as_ref()) {
             let (start, spread) = match (init, brain.as_ref()) {
@@ -192,7 +199,7 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             tracing::info!("new goal ({:.2}, {:.2})", g.x, g.y);
         }
         let Some(b) = brain.as_mut() else { continue };
-        while let Ok(s) = scans.try_recv() {
+        if let Some(s) = scans.latest() {
             pending_scan = Some(cv::scan_from_msg(&s));
         }
         let period = opts.setup.params.dwa.controller_period;
@@ -207,4 +214,15 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
     }
     flush(&brain);
     Ok(())
+}
+
+/// Any inbox, to take in what has arrived.
+trait Absorb {
+    fn absorb_all(&mut self);
+}
+
+impl<T: Sequenced> Absorb for Inbox<T> {
+    fn absorb_all(&mut self) {
+        self.absorb();
+    }
 }

@@ -2,6 +2,7 @@
 //! channels, and waiting (without spinning) for peers to connect.
 
 use roslibrust::ros1::{NodeHandle, Publisher};
+
 use roslibrust::RosMessageType;
 use std::time::Duration;
 use tokio::sync::mpsc;
@@ -31,15 +32,22 @@ pub async fn node(uri: &str, name: &str) -> Result<NodeHandle, RosError> {
         .map_err(|e| RosError::Node(format!("cannot register node {name} with the master at {uri}: {e}")))
 }
 
+/// `topic` as a global name: roslibrust 0.26 matches the master's `publisherUpdate` (which
+/// names topics globally) against the name as given, so a relative name would never connect
+/// to publishers that appear after the subscription.
+pub fn global(topic: &str) -> String {
+    if topic.starts_with('/') { topic.to_string() } else { format!("/{topic}") }
+}
+
 /// Advertises `topic` (latched or not).
 pub async fn advertise<T: RosMessageType>(nh: &NodeHandle, topic: &str, latched: bool) -> Result<Publisher<T>, RosError> {
-    nh.advertise::<T>(topic, 16, latched).await.map_err(|e| RosError::Node(format!("advertising {topic}: {e}")))
+    nh.advertise::<T>(&global(topic), 16, latched).await.map_err(|e| RosError::Node(format!("advertising {topic}: {e}")))
 }
 
 /// Subscribes to `topic`; messages arrive on the returned channel in order. Messages that fail
 /// to decode are logged and dropped (the connection and the node live on).
 pub async fn subscribe<T: RosMessageType>(nh: &NodeHandle, topic: &str) -> Result<mpsc::UnboundedReceiver<T>, RosError> {
-    let mut sub = nh.subscribe::<T>(topic, 1000).await.map_err(|e| RosError::Node(format!("subscribing to {topic}: {e}")))?;
+    let mut sub = nh.subscribe::<T>(&global(topic), 1000).await.map_err(|e| RosError::Node(format!("subscribing to {topic}: {e}")))?;
     let (tx, rx) = mpsc::unbounded_channel();
     let topic = topic.to_string();
     tokio::spawn(async move {
@@ -57,39 +65,73 @@ pub async fn subscribe<T: RosMessageType>(nh: &NodeHandle, topic: &str) -> Resul
     Ok(rx)
 }
 
-/// Something with subscribers.
-pub trait Connected: Sync {
-    /// Whether at least one subscriber is connected.
-    fn connected(&self) -> bool;
-}
-
-impl<T: RosMessageType> Connected for Publisher<T> {
-    fn connected(&self) -> bool {
-        self.has_connected_clients()
-    }
-}
-
-/// Waits (sleeping 5 ms between looks, no busy wait) until each publisher has a subscriber;
-/// an error naming the topics still alone after `timeout`.
-pub async fn wait_for_subscribers(pubs: &[(&str, &dyn Connected)], timeout: Duration) -> Result<(), RosError> {
-    let t0 = std::time::Instant::now();
-    loop {
-        let missing: Vec<&str> = pubs.iter().filter(|(_, p)| !p.connected()).map(|(n, _)| *n).collect();
-        if missing.is_empty() {
-            return Ok(());
-        }
-        if t0.elapsed() > timeout {
-            return Err(RosError::Timeout(format!("nobody subscribed to {} within {:.0} s", missing.join(", "), timeout.as_secs_f64())));
-        }
-        tokio::time::sleep(Duration::from_millis(5)).await;
-    }
-}
-
 /// Receives the next message from `rx` within `timeout`, naming `what` on failure.
 pub async fn recv<T>(rx: &mut mpsc::UnboundedReceiver<T>, timeout: Duration, what: &str) -> Result<T, RosError> {
     match tokio::time::timeout(timeout, rx.recv()).await {
         Ok(Some(m)) => Ok(m),
         Ok(None) => Err(RosError::Protocol(format!("{what}: the subscription closed"))),
         Err(_) => Err(RosError::Timeout(format!("no {what} within {:.0} s", timeout.as_secs_f64()))),
+    }
+}
+
+/// Messages with a header sequence number.
+pub trait Sequenced {
+    /// `header.seq`.
+    fn seq(&self) -> u32;
+}
+
+macro_rules! sequenced {
+    ($($t:ty),*) => {$(impl Sequenced for $t { fn seq(&self) -> u32 { self.header.seq } })*};
+}
+use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs};
+sequenced!(gm::PoseStamped, gm::PoseWithCovarianceStamped, nav_msgs::Odometry, nav_msgs::OccupancyGrid, sensor_msgs::LaserScan);
+
+/// A subscription's messages with handshake probes (`header.seq` = `PROBE_SEQ`) taken out:
+/// it remembers that a probe came (the connection is up) and queues the real messages.
+pub struct Inbox<T> {
+    rx: mpsc::UnboundedReceiver<T>,
+    pending: std::collections::VecDeque<T>,
+    /// Whether a probe has arrived.
+    pub probed: bool,
+}
+
+impl<T: Sequenced> Inbox<T> {
+    /// Wraps a subscription.
+    pub fn new(rx: mpsc::UnboundedReceiver<T>) -> Self {
+        Self { rx, pending: Default::default(), probed: false }
+    }
+
+    /// Takes in whatever has arrived, without waiting.
+    pub fn absorb(&mut self) {
+        while let Ok(m) = self.rx.try_recv() {
+            if m.seq() == super::sim_node::PROBE_SEQ {
+                self.probed = true;
+            } else {
+                self.pending.push_back(m);
+            }
+        }
+    }
+
+    /// The next real message, waiting up to `timeout`.
+    pub async fn next(&mut self, timeout: Duration, what: &str) -> Result<T, RosError> {
+        loop {
+            if let Some(m) = self.pending.pop_front() {
+                return Ok(m);
+            }
+            let m = recv(&mut self.rx, timeout, what).await?;
+            if m.seq() == super::sim_node::PROBE_SEQ {
+                self.probed = true;
+            } else {
+                return Ok(m);
+            }
+        }
+    }
+
+    /// The newest real message that has arrived, if any (older ones are dropped).
+    pub fn latest(&mut self) -> Option<T> {
+        self.absorb();
+        let last = self.pending.pop_back();
+        self.pending.clear();
+        last
     }
 }

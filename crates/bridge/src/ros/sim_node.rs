@@ -3,7 +3,7 @@
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, rosgraph_msgs, sensor_msgs, std_msgs, tf2_msgs};
-use super::node::{self, Connected, RosError};
+use super::node::{self, RosError};
 use roslibrust::ros1::{NodeHandle, Publisher};
 use std::time::Duration;
 use tokio::sync::mpsc;
@@ -12,6 +12,20 @@ use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
 
 /// The camera's optical frame (z forward, x right, y down).
 pub const CAMERA_OPTICAL_FRAME: &str = "camera_depth_optical_frame";
+
+/// `header.seq` of a handshake probe (never a real step).
+pub const PROBE_SEQ: u32 = u32::MAX;
+/// `action` value an agent answers a probe with (never a real action).
+pub const READY_ACTION: i16 = -1000;
+
+/// Whether a message on `action` or `cmd_vel` answers a handshake probe: `action` of
+/// [`READY_ACTION`] or a Twist with `linear.z` set (a planar base never commands it).
+pub fn is_ready_reply(c: &Command) -> bool {
+    match c {
+        Command::Action(a) => *a == READY_ACTION,
+        Command::Twist(_) => false,
+    }
+}
 
 /// A command from the agent side.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,24 +103,6 @@ impl SimNode {
         })
     }
 
-    /// Waits until the named topics have subscribers (`ground_truth/pose`, `odom`, `scan`, `goal`, `initialpose`).
-    pub async fn wait_for(&self, topics: &[&str]) -> Result<(), RosError> {
-        let mut pubs: Vec<(&str, &dyn Connected)> = Vec::new();
-        for t in topics {
-            let p: &dyn Connected = match *t {
-                "ground_truth/pose" => &self.truth,
-                "odom" => &self.odom,
-                "scan" => &self.scan,
-                "clock" => &self.clock,
-                "move_base_simple/goal" => &self.goal,
-                "initialpose" => &self.initialpose,
-                other => return Err(RosError::Protocol(format!("unknown topic {other}"))),
-            };
-            pubs.push((t, p));
-        }
-        node::wait_for_subscribers(&pubs, self.timeout).await
-    }
-
     /// Publishes the static transforms base_link -> laser (at `laser_z`) and base_link ->
     /// camera_link -> optical frame (camera at `camera_z`), latched.
     pub async fn publish_static_tf(&self, laser_z: f64, camera_z: f64) -> Result<(), RosError> {
@@ -141,10 +137,8 @@ impl SimNode {
     /// ground truth, in that order.
     pub async fn publish_state(&self, s: &RobotState<'_>) -> Result<(), RosError> {
         self.clock.publish(&rosgraph_msgs::Clock { clock: cv::time(s.stamp) }).await.map_err(|e| perr("clock", e))?;
-        if self.tf.connected() {
-            let m = tf2_msgs::TFMessage { transforms: vec![cv::tf(s.stamp, "odom", "base_link", cv::transform(s.odom, 0.0))] };
-            self.tf.publish(&m).await.map_err(|e| perr("tf", e))?;
-        }
+        let m = tf2_msgs::TFMessage { transforms: vec![cv::tf(s.stamp, "odom", "base_link", cv::transform(s.odom, 0.0))] };
+        self.tf.publish(&m).await.map_err(|e| perr("tf", e))?;
         if let Some((scan, period, _)) = s.scan {
             self.scan.publish(&cv::laser_scan(s.seq, s.stamp, "laser", scan, period)).await.map_err(|e| perr("scan", e))?;
         }
@@ -153,14 +147,9 @@ impl SimNode {
         self.truth.publish(&gt).await.map_err(|e| perr("ground_truth/pose", e))
     }
 
-    /// Whether anyone listens to the camera topics: (depth, rgb).
-    pub fn camera_wanted(&self) -> (bool, bool) {
-        (self.depth.connected() || self.depth_info.connected(), self.rgb.connected() || self.rgb_info.connected())
-    }
-
-    /// Renders and publishes the camera images someone subscribes to (ray-cast renderer).
-    pub async fn publish_camera(&self, seq: u32, stamp: f64, scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<(), RosError> {
-        let (want_depth, want_rgb) = self.camera_wanted();
+    /// Renders and publishes depth (and RGB when `want_rgb`) with their camera_info.
+    pub async fn publish_camera(&self, seq: u32, stamp: f64, scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool) -> Result<(), RosError> {
+        let want_depth = true;
         let k = cam.intrinsics();
         if want_depth {
             let d = render_depth(scene, base, floor_z, cam);
@@ -175,14 +164,69 @@ impl SimNode {
         Ok(())
     }
 
-    /// The next command (lock-step): waits up to `timeout` for `cmd_vel` or `action`.
+    /// The next command (lock-step): waits up to `timeout` for `cmd_vel` or `action`,
+    /// skipping late answers to handshake probes.
     pub async fn next_command(&mut self) -> Result<Command, RosError> {
-        let t = self.timeout;
-        tokio::select! {
-            m = self.cmd_vel.recv() => m.map(|m| Command::Twist(cv::twist2(&m))).ok_or_else(|| RosError::Protocol("cmd_vel subscription closed".into())),
-            m = self.action.recv() => m.map(|m| Command::Action(m.data)).ok_or_else(|| RosError::Protocol("action subscription closed".into())),
-            _ = tokio::time::sleep(t) => Err(RosError::Timeout(format!("no cmd_vel or action from the agent within {:.0} s (lock-step)", t.as_secs_f64()))),
+        let deadline = tokio::time::Instant::now() + self.timeout;
+        loop {
+            let c = tokio::select! {
+                m = self.cmd_vel.recv() => match m {
+                    Some(m) if m.linear.z != 0.0 => continue,
+                    Some(m) => Command::Twist(cv::twist2(&m)),
+                    None => return Err(RosError::Protocol("cmd_vel subscription closed".into())),
+                },
+                m = self.action.recv() => match m {
+                    Some(m) => Command::Action(m.data),
+                    None => return Err(RosError::Protocol("action subscription closed".into())),
+                },
+                _ = tokio::time::sleep_until(deadline) => return Err(RosError::Timeout(format!("no cmd_vel or action from the agent within {:.0} s (lock-step)", self.timeout.as_secs_f64()))),
+            };
+            if !is_ready_reply(&c) {
+                return Ok(c);
+            }
         }
+    }
+
+    /// Lock-step handshake: publishes probes (`header.seq` = [`PROBE_SEQ`]) on `topics` every
+    /// 50 ms until the agent has answered on `action` (and on `cmd_vel` when `twist`), which
+    /// proves every connection both ways is up: roslibrust drops messages published before a
+    /// subscriber's connection exists, so lock-step cannot start earlier.
+    pub async fn handshake(&mut self, topics: &[&str], twist: bool) -> Result<(), RosError> {
+        let deadline = tokio::time::Instant::now() + self.timeout;
+        let (mut got_action, mut got_twist) = (false, !twist);
+        while !(got_action && got_twist) {
+            tracing::debug!("sim: probing {topics:?}");
+            for t in topics {
+                self.probe(t).await?;
+            }
+            let tick = tokio::time::Instant::now() + Duration::from_millis(50);
+            loop {
+                tokio::select! {
+                    m = self.cmd_vel.recv() => if m.is_some_and(|m| m.linear.z != 0.0) { got_twist = true },
+                    m = self.action.recv() => if m.is_some_and(|m| m.data == READY_ACTION) { got_action = true },
+                    _ = tokio::time::sleep_until(tick) => break,
+                }
+            }
+            if tokio::time::Instant::now() > deadline {
+                return Err(RosError::Timeout(format!("the agent did not answer the handshake on {} within {:.0} s", topics.join(", "), self.timeout.as_secs_f64())));
+            }
+        }
+        Ok(())
+    }
+
+    /// Publishes one probe on `topic`.
+    async fn probe(&self, topic: &str) -> Result<(), RosError> {
+        let h = cv::header(PROBE_SEQ, 0.0, "probe");
+        let r = match topic {
+            "ground_truth/pose" => self.truth.publish(&gm::PoseStamped { header: h, ..Default::default() }).await,
+            "move_base_simple/goal" => self.goal.publish(&gm::PoseStamped { header: h, ..Default::default() }).await,
+            "initialpose" => self.initialpose.publish(&gm::PoseWithCovarianceStamped { header: h, ..Default::default() }).await,
+            "odom" => self.odom.publish(&nav_msgs::Odometry { header: h, ..Default::default() }).await,
+            "scan" => self.scan.publish(&sensor_msgs::LaserScan { header: h, ..Default::default() }).await,
+            "map" => self.map.publish(&nav_msgs::OccupancyGrid { header: h, ..Default::default() }).await,
+            other => return Err(RosError::Protocol(format!("no probe for topic {other}"))),
+        };
+        r.map_err(|e| perr(topic, e))
     }
 
     /// The newest command that has arrived, if any (free-running mode), without waiting.
