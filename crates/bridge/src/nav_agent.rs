@@ -42,6 +42,11 @@ pub struct NavSetup {
     pub scan_period: f64,
 }
 
+/// Initial position spread of AMCL at an episode's start (m, ROS's initialpose default).
+pub const INITIAL_STD_XY: f64 = 0.5;
+/// Initial heading spread of AMCL at an episode's start (rad, pi/12 as in ROS).
+pub const INITIAL_STD_YAW: f64 = std::f64::consts::PI / 12.0;
+
 /// When scans are taken in an episode: at the first step at or after each multiple of the
 /// period (from the episode's start). The simulator and the navigator keep the same schedule,
 /// so in lock-step the navigator knows which steps bring a scan.
@@ -112,7 +117,7 @@ impl NavBrain {
         nav.set_goal(goal, 0.0);
         let amcl = (setup.localization == Localization::Amcl).then(|| {
             let mut a = Amcl::new(map, setup.params.amcl.clone(), seed);
-            let (sxy, syaw) = spread.unwrap_or((0.5, std::f64::consts::PI / 12.0));
+            let (sxy, syaw) = spread.unwrap_or((INITIAL_STD_XY, INITIAL_STD_YAW));
             a.init(start, sxy, syaw);
             a
         });
@@ -182,8 +187,15 @@ pub fn episode_time(sim_s: f64) -> f64 {
 
 /// Runs one episode with the navigator on `env` (already reset), returning its outcome.
 pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
+    // The navigator gets its inputs through the same message conversions as the ROS nav node
+    // (f32 map resolution and scan angles, yaw through a quaternion), so that a run over ROS
+    // is identical to this one.
+    use crate::ros::convert as cv;
     let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
-    let mut brain = NavBrain::new(setup, &map, goal, env.odometry(), None, cfg.seed);
+    let map = cv::grid_from_msg(&cv::occupancy_grid(0.0, &map)).expect("a map converts to its own message");
+    let via = |p: Pose2| cv::pose2(&cv::pose(p, 0.0));
+    let spread = cv::pose_with_covariance(0, 0.0, Pose2::default(), INITIAL_STD_XY, INITIAL_STD_YAW).pose.covariance;
+    let mut brain = NavBrain::new(setup, &map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));
@@ -191,10 +203,10 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: x
     while !env.is_done() {
         let t = episode_time(env.sim_s());
         let scan = match lidar.as_mut() {
-            Some((rs, l)) if brain.scan_due(t) => Some(l.scan(rs, env.pose(), grid.floor_z)),
+            Some((rs, l)) if brain.scan_due(t) => Some(cv::scan_from_msg(&cv::laser_scan(0, t, "laser", &l.scan(rs, env.pose(), grid.floor_z), setup.scan_period))),
             _ => None,
         };
-        let inp = NavInputs { t, odom: env.odometry(), twist: env.robot().twist(), truth: Some(env.pose()), scan: scan.as_ref() };
+        let inp = NavInputs { t, odom: via(env.odometry()), twist: env.robot().twist(), truth: Some(via(env.pose())), scan: scan.as_ref() };
         match brain.step(inp) {
             NavReply::Stop => env.call_stop(),
             NavReply::Abort => {

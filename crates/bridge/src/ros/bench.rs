@@ -128,7 +128,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
             sim.publish_map(stamp(0.0), &map).await?;
             sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
-            sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), 0.5, std::f64::consts::PI / 12.0).await?;
+            sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW).await?;
             let period = setup.params.dwa.controller_period.max(1e-3);
             let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), p.clone(), Lidar::new(p.clone(), cfg.seed)));
             // The same schedule as the navigator's (a scan every scan_period from 0).
