@@ -115,18 +115,32 @@ impl View {
         [dx * self.s - dy * self.c, self.o[2] - p[2], dx * self.c + dy * self.s]
     }
 
-    /// True when all `pts` (camera frame) lie outside one frustum plane.
+    /// Bits of the frustum planes (near, far, left, right, top, bottom) that a camera-frame
+    /// point lies outside of.
     #[inline(always)]
-    fn outside(&self, pts: &[[f32; 3]]) -> bool {
+    fn outcode(&self, p: [f32; 3]) -> u32 {
         let [xl, xr, yt, yb] = self.slopes;
-        let all = |f: &dyn Fn(&[f32; 3]) -> bool| pts.iter().all(f);
-        all(&|p| p[2] < NEAR)
-            || all(&|p| p[2] > self.far)
-            || all(&|p| p[0] < xl * p[2])
-            || all(&|p| p[0] > xr * p[2])
-            || all(&|p| p[1] < yt * p[2])
-            || all(&|p| p[1] > yb * p[2])
+        (p[2] < NEAR) as u32
+            | ((p[2] > self.far) as u32) << 1
+            | ((p[0] < xl * p[2]) as u32) << 2
+            | ((p[0] > xr * p[2]) as u32) << 3
+            | ((p[1] < yt * p[2]) as u32) << 4
+            | ((p[1] > yb * p[2]) as u32) << 5
     }
+}
+
+/// Smallest whole number >= `x`, for `x` in [-1, 2^23].
+#[inline(always)]
+fn ceil_small(x: f32) -> i32 {
+    let i = x as i32;
+    i + ((i as f32) < x) as i32
+}
+
+/// Largest whole number <= `x`, for `x` in [-1, 2^23].
+#[inline(always)]
+fn floor_small(x: f32) -> i32 {
+    let i = x as i32;
+    i - ((i as f32) > x) as i32
 }
 
 /// A triangle ready to rasterise: for each edge `e * xu + f * yv + g >= t` inside, inverse
@@ -150,34 +164,42 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
 /// Sets up one camera-frame triangle, or `None` when it covers no pixel centre.
 #[inline(always)]
 fn setup(view: &View, p: [[f32; 3]; 3], id: u32) -> Option<Setup> {
-    if view.outside(&p) {
+    let codes = [view.outcode(p[0]), view.outcode(p[1]), view.outcode(p[2])];
+    if codes[0] & codes[1] & codes[2] != 0 {
         return None;
     }
     // Pixel bounding box of the part in front of the near plane.
     let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
     let mut add = |q: [f32; 3]| {
-        let (x, y) = (q[0] / q[2], q[1] / q[2]);
+        let r = 1.0 / q[2];
+        let (x, y) = (q[0] * r, q[1] * r);
         x0 = x0.min(x);
         x1 = x1.max(x);
         y0 = y0.min(y);
         y1 = y1.max(y);
     };
-    for i in 0..3 {
-        let (a, b) = (p[i], p[(i + 1) % 3]);
-        if a[2] >= NEAR {
-            add(a);
-        }
-        if (a[2] < NEAR) != (b[2] < NEAR) {
-            let t = (NEAR - a[2]) / (b[2] - a[2]);
-            add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
+    if (codes[0] | codes[1] | codes[2]) & 1 == 0 {
+        p.iter().for_each(|&q| add(q));
+    } else {
+        for i in 0..3 {
+            let (a, b) = (p[i], p[(i + 1) % 3]);
+            if a[2] >= NEAR {
+                add(a);
+            }
+            if (a[2] < NEAR) != (b[2] < NEAR) {
+                let t = (NEAR - a[2]) / (b[2] - a[2]);
+                add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
+            }
         }
     }
     const M: f32 = 0.01;
-    let u0 = (view.cx + view.fx * x0 - M).ceil().max(0.0);
-    let u1 = (view.cx + view.fx * x1 + M).floor().min(view.w as f32 - 1.0);
-    let v0 = (view.cy + view.fy * y0 - M).ceil().max(0.0);
-    let v1 = (view.cy + view.fy * y1 + M).floor().min(view.h as f32 - 1.0);
-    if !(u0 <= u1 && v0 <= v1) {
+    let (wm, hm) = (view.w as f32 - 1.0, view.h as f32 - 1.0);
+    let u0 = ceil_small((view.cx + view.fx * x0 - M).clamp(-1.0, view.w as f32));
+    let u1 = floor_small((view.cx + view.fx * x1 + M).clamp(-1.0, view.w as f32));
+    let v0 = ceil_small((view.cy + view.fy * y0 - M).clamp(-1.0, view.h as f32));
+    let v1 = floor_small((view.cy + view.fy * y1 + M).clamp(-1.0, view.h as f32));
+    let (u0, u1, v0, v1) = (u0.max(0), u1.min(wm as i32), v0.max(0), v1.min(hm as i32));
+    if u0 > u1 || v0 > v1 {
         return None;
     }
     // Plane n . q = d; inverse depth along the pixel ray (xu/fx, yv/fy, 1) is n . r / d.
@@ -263,7 +285,7 @@ impl RasterScene {
                 let pick = |k: usize| if i >> k & 1 == 0 { cl.min[k] } else { cl.max[k] };
                 *q = view.to_cam([pick(0), pick(1), pick(2)]);
             }
-            if view.outside(&corners) {
+            if corners.iter().fold(u32::MAX, |m, &q| m & view.outcode(q)) != 0 {
                 continue;
             }
             for id in cl.start..cl.end {
@@ -318,7 +340,7 @@ impl RasterScene {
                 if ID {
                     let irow = &mut ids[row + u0..=row + u1];
                     for (i, (z, id)) in zrow.iter_mut().zip(irow.iter_mut()).enumerate() {
-                        let xu = x0 + i as f32;
+                        let xu = x0 + i as i32 as f32;
                         let iz = za * xu + gz;
                         let inside = e0[0] * xu + g0 >= e0[3] && e1[0] * xu + g1 >= e1[3] && e2[0] * xu + g2 >= e2[3];
                         if inside && iz > *z {
@@ -328,7 +350,7 @@ impl RasterScene {
                     }
                 } else {
                     for (i, z) in zrow.iter_mut().enumerate() {
-                        let xu = x0 + i as f32;
+                        let xu = x0 + i as i32 as f32;
                         let iz = za * xu + gz;
                         let inside = (e0[0] * xu + g0 >= e0[3]) & (e1[0] * xu + g1 >= e1[3]) & (e2[0] * xu + g2 >= e2[3]);
                         *z = if inside & (iz > *z) { iz } else { *z };
