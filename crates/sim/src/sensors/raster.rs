@@ -334,6 +334,26 @@ impl RasterScene {
                 let yv = v as f32 - view.cy;
                 let (g0, g1, g2) = (e0[1] * yv + e0[2], e1[1] * yv + e1[2], e2[1] * yv + e2[2]);
                 let gz = zb_ * yv + zc;
+                // The row's span, estimated from each edge's crossing with a pixel of margin;
+                // the exact edge tests below decide. Nearly constant edges give no bound.
+                let (mut lo, mut hi) = (u0 as f32, u1 as f32);
+                for (e, g) in [(e0, g0), (e1, g1), (e2, g2)] {
+                    if e[0].abs() * 1e4 > g.abs() {
+                        let b = (e[3] - g) / e[0] + view.cx;
+                        if e[0] > 0.0 {
+                            lo = lo.max(b - 1.0);
+                        } else {
+                            hi = hi.min(b + 1.0);
+                        }
+                    }
+                }
+                if !(lo <= hi) {
+                    continue;
+                }
+                let (u0, u1) = (ceil_small(lo) as usize, floor_small(hi) as usize);
+                if u0 > u1 {
+                    continue;
+                }
                 let row = (v - r0) * w;
                 let zrow = &mut zb[row + u0..=row + u1];
                 let x0 = u0 as f32 - view.cx;
