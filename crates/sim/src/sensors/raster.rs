@@ -143,6 +143,48 @@ fn floor_small(x: f32) -> i32 {
     i - ((i as f32) > x) as i32
 }
 
+/// A cluster in view: index, nearest depth (m), pixel rectangle `[u0, u1, v0, v1]` inclusive.
+#[derive(Clone, Copy)]
+struct Vis {
+    idx: u32,
+    zmin: f32,
+    rect: [u16; 4],
+}
+
+/// Side of the square tiles of [`HiZ`] (px).
+const TILE: usize = 16;
+
+/// The farthest inverse depth drawn in each tile of an image: what lies behind it everywhere
+/// is hidden.
+struct HiZ {
+    tw: usize,
+    min_inv: Vec<f32>,
+}
+
+impl HiZ {
+    fn new(view: &View, zb: &[f32]) -> HiZ {
+        let tw = view.w.div_ceil(TILE);
+        let mut min_inv = vec![f32::INFINITY; tw * view.h.div_ceil(TILE)];
+        for (v, row) in zb.chunks(view.w).enumerate() {
+            let t = &mut min_inv[v / TILE * tw..][..tw];
+            for (i, chunk) in row.chunks(TILE).enumerate() {
+                t[i] = chunk.iter().fold(t[i], |m, &z| m.min(z));
+            }
+        }
+        HiZ { tw, min_inv }
+    }
+
+    /// True when everything drawn over the cluster's rectangle is nearer than its nearest point.
+    fn occludes(&self, v: &Vis) -> bool {
+        if v.zmin < NEAR {
+            return false;
+        }
+        let inv = 1.0 / v.zmin;
+        let [u0, u1, v0, v1] = v.rect.map(|x| x as usize / TILE);
+        (v0..=v1).all(|ty| self.min_inv[ty * self.tw + u0..=ty * self.tw + u1].iter().all(|&m| m > inv))
+    }
+}
+
 /// A triangle ready to rasterise: for each edge `e * xu + f * yv + g >= t` inside, inverse
 /// depth `a * xu + b * yv + c` (1/m), pixel bounding box (inclusive) and triangle index.
 #[derive(Clone, Copy)]
@@ -277,9 +319,12 @@ impl RasterScene {
         self.tris.len()
     }
 
-    /// Sets up the visible triangles of `clusters`, appending to `out`.
-    fn setup_clusters(&self, view: &View, clusters: &[Cluster], out: &mut Vec<Setup>) {
-        for cl in clusters {
+    /// Clusters in the view frustum, nearest first, with their nearest depth (m) and pixel
+    /// rectangle (inclusive; the whole image when they reach the near plane).
+    fn visible(&self, view: &View) -> Vec<Vis> {
+        let full = [0, view.w as u16 - 1, 0, view.h as u16 - 1];
+        let mut vis: Vec<Vis> = Vec::new();
+        for (idx, cl) in self.clusters.iter().enumerate() {
             let mut corners = [[0f32; 3]; 8];
             for (i, q) in corners.iter_mut().enumerate() {
                 let pick = |k: usize| if i >> k & 1 == 0 { cl.min[k] } else { cl.max[k] };
@@ -288,6 +333,34 @@ impl RasterScene {
             if corners.iter().fold(u32::MAX, |m, &q| m & view.outcode(q)) != 0 {
                 continue;
             }
+            let zmin = corners.iter().fold(f32::INFINITY, |m, q| m.min(q[2]));
+            let rect = if zmin < NEAR {
+                full
+            } else {
+                let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+                for q in corners {
+                    let (x, y) = (q[0] / q[2], q[1] / q[2]);
+                    (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+                }
+                // One pixel of margin against rounding.
+                let px = |c: f32, f: f32, x: f32, n: usize| (c + f * x).clamp(1.0, n as f32 - 2.0);
+                [
+                    floor_small(px(view.cx, view.fx, x0, view.w)) as u16 - 1,
+                    ceil_small(px(view.cx, view.fx, x1, view.w)) as u16 + 1,
+                    floor_small(px(view.cy, view.fy, y0, view.h)) as u16 - 1,
+                    ceil_small(px(view.cy, view.fy, y1, view.h)) as u16 + 1,
+                ]
+            };
+            vis.push(Vis { idx: idx as u32, zmin, rect });
+        }
+        vis.sort_unstable_by(|a, b| a.zmin.total_cmp(&b.zmin).then(a.idx.cmp(&b.idx)));
+        vis
+    }
+
+    /// Sets up the triangles of the clusters `vis`, appending to `out`.
+    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>) {
+        for v in vis {
+            let cl = &self.clusters[v.idx as usize];
             for id in cl.start..cl.end {
                 let t = &self.tris[id as usize];
                 let p = [view.to_cam(t.v[0]), view.to_cam(t.v[1]), view.to_cam(t.v[2])];
@@ -298,12 +371,10 @@ impl RasterScene {
         }
     }
 
-    /// All visible triangles of a view, set up in a fixed order (in parallel when `par`).
-    fn setup_all(&self, view: &View, par: bool) -> Vec<Vec<Setup>> {
+    /// The triangles of clusters `vis`, set up in a fixed order (in parallel when `par`).
+    fn setup_all(&self, view: &View, vis: &[Vis], par: bool) -> Vec<Vec<Setup>> {
         if par {
-            let per = self.clusters.len().div_ceil(16).max(1);
-            self.clusters
-                .par_chunks(per)
+            vis.par_chunks(vis.len().div_ceil(8).max(1))
                 .map(|cls| {
                     let mut out = Vec::new();
                     self.setup_clusters(view, cls, &mut out);
@@ -312,7 +383,7 @@ impl RasterScene {
                 .collect()
         } else {
             let mut out = Vec::new();
-            self.setup_clusters(view, &self.clusters, &mut out);
+            self.setup_clusters(view, vis, &mut out);
             vec![out]
         }
     }
@@ -383,23 +454,33 @@ impl RasterScene {
     /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
     /// of a view; bands of rows in parallel when `par`.
     fn render_inv<const ID: bool>(&self, view: &View, par: bool) -> (Vec<f32>, Vec<u32>) {
-        let tris = self.setup_all(view, par);
         let w = view.w;
         let mut zb = vec![1.0 / view.far; w * view.h];
         let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
-        if par {
-            let n = BAND_ROWS * w;
-            if ID {
-                zb.par_chunks_mut(n).zip(ids.par_chunks_mut(n)).enumerate().for_each(|(i, (z, id))| {
-                    Self::raster_band::<ID>(view, &tris, i * BAND_ROWS, z, id);
-                });
+        let raster = |tris: &[Vec<Setup>], zb: &mut [f32], ids: &mut [u32]| {
+            if par {
+                let n = BAND_ROWS * w;
+                if ID {
+                    zb.par_chunks_mut(n).zip(ids.par_chunks_mut(n)).enumerate().for_each(|(i, (z, id))| {
+                        Self::raster_band::<ID>(view, tris, i * BAND_ROWS, z, id);
+                    });
+                } else {
+                    zb.par_chunks_mut(n).enumerate().for_each(|(i, z)| {
+                        Self::raster_band::<ID>(view, tris, i * BAND_ROWS, z, &mut []);
+                    });
+                }
             } else {
-                zb.par_chunks_mut(n).enumerate().for_each(|(i, z)| {
-                    Self::raster_band::<ID>(view, &tris, i * BAND_ROWS, z, &mut []);
-                });
+                Self::raster_band::<ID>(view, tris, 0, zb, ids);
             }
-        } else {
-            Self::raster_band::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        };
+        // The nearest clusters first; then the rest, less those behind what is drawn.
+        let vis = self.visible(view);
+        let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
+        raster(&self.setup_all(view, &vis[..split], par), &mut zb, &mut ids);
+        if split < vis.len() {
+            let hiz = HiZ::new(view, &zb);
+            let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
+            raster(&self.setup_all(view, &rest, par), &mut zb, &mut ids);
         }
         (zb, ids)
     }
