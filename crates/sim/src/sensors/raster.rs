@@ -2,9 +2,11 @@
 //! caster ([`super::camera`]), many times faster.
 //!
 //! Triangles are grouped into spatial clusters (Morton order of their centroids) with
-//! bounding boxes. Per view, clusters outside the frustum or beyond `max_depth` are culled,
-//! the remaining triangles are moved to the camera frame and set up once, then the image is
-//! rasterised in row bands in parallel. Coverage uses homogeneous edge functions (the ray
+//! bounding boxes. Per view, clusters outside the frustum or beyond `max_depth` are culled and
+//! the rest sorted nearest first; the nearest quarter is drawn, then the others are drawn
+//! unless every 16 x 16 tile their rectangle covers is already nearer (hierarchical z). A
+//! single view is split into column strips rendered in parallel; a batch renders one view per
+//! task. Coverage uses homogeneous edge functions (the ray
 //! through a pixel centre hits the triangle iff it lies in the cone spanned by the camera-frame
 //! corners), so triangles crossing the camera plane need no clipping for coverage; only their
 //! pixel bounding box is taken from the part in front of a near plane. Ties on shared edges
@@ -20,8 +22,8 @@ use xhab_types::{DepthImage, Pose2};
 const CLUSTER: usize = 96;
 /// Near plane for bounding boxes (m): surfaces closer than this may be missed.
 const NEAR: f32 = 1e-3;
-/// Rows per band when one view is split across threads.
-const BAND_ROWS: usize = 32;
+/// Column strips that one view is split into, rendered in parallel.
+const STRIPS: usize = 2;
 
 /// One scene triangle: corners in the world frame (m) and its mesh's colour (sRGB bytes).
 #[derive(Clone, Copy)]
@@ -81,10 +83,12 @@ struct View {
 }
 
 impl View {
-    fn new(base: Pose2, floor_z: f64, cam: &CameraParams) -> View {
-        let k = cam.intrinsics();
+    /// The view of the columns `c0..c1` of the camera's image, as an image of their width.
+    fn new(base: Pose2, floor_z: f64, cam: &CameraParams, c0: usize, c1: usize) -> View {
+        let mut k = cam.intrinsics();
+        k.cx -= c0 as f64;
         let (s, c) = base.yaw.sin_cos();
-        let (w, h) = (cam.width, cam.height);
+        let (w, h) = (c1 - c0, cam.height);
         View {
             o: [base.x as f32, base.y as f32, (floor_z + cam.mount_height) as f32],
             s: s as f32,
@@ -371,29 +375,12 @@ impl RasterScene {
         }
     }
 
-    /// The triangles of clusters `vis`, set up in a fixed order (in parallel when `par`).
-    fn setup_all(&self, view: &View, vis: &[Vis], par: bool) -> Vec<Vec<Setup>> {
-        if par {
-            vis.par_chunks(vis.len().div_ceil(8).max(1))
-                .map(|cls| {
-                    let mut out = Vec::new();
-                    self.setup_clusters(view, cls, &mut out);
-                    out
-                })
-                .collect()
-        } else {
-            let mut out = Vec::new();
-            self.setup_clusters(view, vis, &mut out);
-            vec![out]
-        }
-    }
-
     /// Rasterises `tris` into the rows `r0..` of inverse depth `zb` (and triangle ids `ids`
     /// when `ID`), keeping the nearest.
-    fn raster_band<const ID: bool>(view: &View, tris: &[Vec<Setup>], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
+    fn raster_band<const ID: bool>(view: &View, tris: &[Setup], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
         let w = view.w;
         let r1 = r0 + zb.len() / w;
-        for t in tris.iter().flatten() {
+        for t in tris {
             let [u0, u1, v0, v1] = t.bbox.map(|x| x as usize);
             let (v0, v1) = (v0.max(r0), v1.min(r1 - 1));
             if v0 > v1 {
@@ -453,42 +440,55 @@ impl RasterScene {
 
     /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
     /// of a view; bands of rows in parallel when `par`.
-    fn render_inv<const ID: bool>(&self, view: &View, par: bool) -> (Vec<f32>, Vec<u32>) {
+    fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
         let w = view.w;
         let mut zb = vec![1.0 / view.far; w * view.h];
         let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
-        let raster = |tris: &[Vec<Setup>], zb: &mut [f32], ids: &mut [u32]| {
-            if par {
-                let n = BAND_ROWS * w;
-                if ID {
-                    zb.par_chunks_mut(n).zip(ids.par_chunks_mut(n)).enumerate().for_each(|(i, (z, id))| {
-                        Self::raster_band::<ID>(view, tris, i * BAND_ROWS, z, id);
-                    });
-                } else {
-                    zb.par_chunks_mut(n).enumerate().for_each(|(i, z)| {
-                        Self::raster_band::<ID>(view, tris, i * BAND_ROWS, z, &mut []);
-                    });
-                }
-            } else {
-                Self::raster_band::<ID>(view, tris, 0, zb, ids);
-            }
-        };
+        let mut tris = Vec::new();
         // The nearest clusters first; then the rest, less those behind what is drawn.
         let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
-        raster(&self.setup_all(view, &vis[..split], par), &mut zb, &mut ids);
+        self.setup_clusters(view, &vis[..split], &mut tris);
+        Self::raster_band::<ID>(view, &tris, 0, &mut zb, &mut ids);
         if split < vis.len() {
             let hiz = HiZ::new(view, &zb);
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
-            raster(&self.setup_all(view, &rest, par), &mut zb, &mut ids);
+            tris.clear();
+            self.setup_clusters(view, &rest, &mut tris);
+            Self::raster_band::<ID>(view, &tris, 0, &mut zb, &mut ids);
         }
         (zb, ids)
     }
 
-    fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, par: bool) -> DepthImage {
-        let view = View::new(base, floor_z, cam);
-        let (mut data, _) = self.render_inv::<false>(&view, par);
-        let (near_w, far) = (1.0 / view.far, view.far);
+    /// Inverse depth and triangle ids (when `ID`) of the whole image, rendered in `strips`
+    /// column strips in parallel.
+    fn render_strips<const ID: bool>(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> (Vec<f32>, Vec<u32>) {
+        let (w, h) = (cam.width, cam.height);
+        let strips = strips.clamp(1, w.max(1));
+        if strips == 1 {
+            return self.render_inv::<ID>(&View::new(base, floor_z, cam, 0, w));
+        }
+        let edges: Vec<usize> = (0..=strips).map(|i| i * w / strips).collect();
+        let parts: Vec<(Vec<f32>, Vec<u32>)> =
+            (0..strips).into_par_iter().map(|i| self.render_inv::<ID>(&View::new(base, floor_z, cam, edges[i], edges[i + 1]))).collect();
+        let mut zb = vec![0f32; w * h];
+        let mut ids = if ID { vec![0u32; w * h] } else { Vec::new() };
+        for (i, (z, id)) in parts.iter().enumerate() {
+            let (c0, sw) = (edges[i], edges[i + 1] - edges[i]);
+            for v in 0..h {
+                zb[v * w + c0..][..sw].copy_from_slice(&z[v * sw..][..sw]);
+                if ID {
+                    ids[v * w + c0..][..sw].copy_from_slice(&id[v * sw..][..sw]);
+                }
+            }
+        }
+        (zb, ids)
+    }
+
+    fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> DepthImage {
+        let (mut data, _) = self.render_strips::<false>(base, floor_z, cam, strips);
+        let far = cam.max_depth as f32;
+        let near_w = 1.0 / far;
         for z in &mut data {
             let d = 1.0 / *z;
             *z = if *z > near_w && d <= far { d } else { 0.0 };
@@ -500,21 +500,21 @@ impl RasterScene {
     /// `floor_z` (m), as [`super::render_depth`] does: depth along the optical axis (m), 0
     /// where nothing is hit within `max_depth`. Uses all rayon threads.
     pub fn render_depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> DepthImage {
-        self.depth(base, floor_z, cam, true)
+        self.depth(base, floor_z, cam, STRIPS)
     }
 
     /// Renders the depth images of many views (robot pose, floor height in m), one view per
     /// rayon task; each image as [`RasterScene::render_depth`] gives it.
     pub fn render_depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Vec<DepthImage> {
-        views.par_iter().map(|&(base, floor_z)| self.depth(base, floor_z, cam, false)).collect()
+        views.par_iter().map(|&(base, floor_z)| self.depth(base, floor_z, cam, 1)).collect()
     }
 
     /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
     /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle shaded
     /// by `0.35 + 0.65 |cos incidence|`, black where nothing is hit within `max_depth`.
     pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
-        let view = View::new(base, floor_z, cam);
-        let (zb, ids) = self.render_inv::<true>(&view, true);
+        let (zb, ids) = self.render_strips::<true>(base, floor_z, cam, STRIPS);
+        let far = cam.max_depth as f32;
         let k = cam.intrinsics();
         let (s, c) = base.yaw.sin_cos();
         let mut data = vec![0u8; cam.width * cam.height * 3];
@@ -522,7 +522,7 @@ impl RasterScene {
             let y = (v as f64 - k.cy) / k.fy;
             for u in 0..cam.width {
                 let (z, id) = (zb[v * cam.width + u], ids[v * cam.width + u]);
-                if id == u32::MAX || !(1.0 / z <= view.far) {
+                if id == u32::MAX || !(1.0 / z <= far) {
                     continue;
                 }
                 let x = (u as f64 - k.cx) / k.fx;
