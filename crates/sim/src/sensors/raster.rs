@@ -377,7 +377,7 @@ impl RasterScene {
 
     /// Rasterises `tris` into the rows `r0..` of inverse depth `zb` (and triangle ids `ids`
     /// when `ID`), keeping the nearest.
-    fn raster_band<const ID: bool>(view: &View, tris: &[Setup], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
+    fn raster<const ID: bool>(view: &View, tris: &[Setup], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
         let w = view.w;
         let r1 = r0 + zb.len() / w;
         for t in tris {
@@ -439,7 +439,7 @@ impl RasterScene {
     }
 
     /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
-    /// of a view; bands of rows in parallel when `par`.
+    /// of one view (or column strip), nearest clusters first with occlusion culling.
     fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
         let w = view.w;
         let mut zb = vec![1.0 / view.far; w * view.h];
@@ -449,13 +449,13 @@ impl RasterScene {
         let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
         self.setup_clusters(view, &vis[..split], &mut tris);
-        Self::raster_band::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
         if split < vis.len() {
             let hiz = HiZ::new(view, &zb);
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
             tris.clear();
             self.setup_clusters(view, &rest, &mut tris);
-            Self::raster_band::<ID>(view, &tris, 0, &mut zb, &mut ids);
+            Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
         }
         (zb, ids)
     }
