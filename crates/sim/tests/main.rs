@@ -4,3 +4,4 @@ mod env_oracle;
 mod physics;
 mod scenes;
 mod geodesic_closed_form;
+mod raster;

@@ -3,3 +3,4 @@ mod common;
 mod cli;
 mod map_vs_slam;
 mod sensors;
+mod raster;

@@ -1,0 +1,546 @@
+//! Pinhole depth and colour camera rendered by CPU rasterisation: the same images as the ray
+//! caster ([`super::camera`]), many times faster.
+//!
+//! Triangles are grouped into spatial clusters (Morton order of their centroids) with
+//! bounding boxes. Per view, clusters outside the frustum or beyond `max_depth` are culled and
+//! the rest sorted nearest first; the nearest quarter is drawn, then the others are drawn
+//! unless every 16 x 16 tile their rectangle covers is already nearer (hierarchical z). A
+//! single view is split into column strips rendered in parallel; a batch renders one view per
+//! task. Coverage uses homogeneous edge functions (the ray
+//! through a pixel centre hits the triangle iff it lies in the cone spanned by the camera-frame
+//! corners), so triangles crossing the camera plane need no clipping for coverage; only their
+//! pixel bounding box is taken from the part in front of a near plane. Ties on shared edges
+//! follow a top-left rule. Inverse depth (linear in the image) is interpolated from the
+//! triangle's plane, and a buffer keeps the nearest. Results do not depend on thread count.
+
+use super::camera::CameraParams;
+use crate::scene::Scene;
+use rayon::prelude::*;
+use xhab_types::{DepthImage, Pose2};
+
+/// Triangles per cluster.
+const CLUSTER: usize = 96;
+/// Near plane for bounding boxes (m): surfaces closer than this may be missed.
+const NEAR: f32 = 1e-3;
+/// Column strips that one view is split into, rendered in parallel.
+const STRIPS: usize = 2;
+
+/// One scene triangle: corners in the world frame (m) and its mesh's colour (sRGB bytes).
+#[derive(Clone, Copy)]
+struct Tri {
+    v: [[f32; 3]; 3],
+    color: [u8; 3],
+}
+
+/// A run of triangles and its axis-aligned bounding box (world, m).
+#[derive(Clone, Copy)]
+struct Cluster {
+    min: [f32; 3],
+    max: [f32; 3],
+    start: u32,
+    end: u32,
+}
+
+/// The scene's triangles in spatial clusters, for rasterising depth and colour images; built
+/// once and shared between threads (it is `Sync`).
+pub struct RasterScene {
+    tris: Vec<Tri>,
+    clusters: Vec<Cluster>,
+}
+
+impl std::fmt::Debug for RasterScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "RasterScene({} triangles, {} clusters)", self.tris.len(), self.clusters.len())
+    }
+}
+
+/// Spreads the low 10 bits of `x` to every third bit.
+fn spread3(x: u32) -> u64 {
+    let mut x = (x & 0x3ff) as u64;
+    x = (x | (x << 16)) & 0x0300_00ff;
+    x = (x | (x << 8)) & 0x0300_f00f;
+    x = (x | (x << 4)) & 0x030c_30c3;
+    (x | (x << 2)) & 0x0924_9249
+}
+
+/// The camera of one view: pose, intrinsics and frustum (camera frame x right, y down, z
+/// forward; `xu`, `yv` are pixel coordinates relative to the principal point).
+struct View {
+    o: [f32; 3],
+    s: f32,
+    c: f32,
+    cx: f32,
+    cy: f32,
+    inv_fx: f32,
+    inv_fy: f32,
+    fx: f32,
+    fy: f32,
+    w: usize,
+    h: usize,
+    far: f32,
+    /// Frustum slopes x/z (left, right) and y/z (top, bottom), one pixel beyond the image.
+    slopes: [f32; 4],
+}
+
+impl View {
+    /// The view of the columns `c0..c1` of the camera's image, as an image of their width.
+    fn new(base: Pose2, floor_z: f64, cam: &CameraParams, c0: usize, c1: usize) -> View {
+        let mut k = cam.intrinsics();
+        k.cx -= c0 as f64;
+        let (s, c) = base.yaw.sin_cos();
+        let (w, h) = (c1 - c0, cam.height);
+        View {
+            o: [base.x as f32, base.y as f32, (floor_z + cam.mount_height) as f32],
+            s: s as f32,
+            c: c as f32,
+            cx: k.cx as f32,
+            cy: k.cy as f32,
+            inv_fx: (1.0 / k.fx) as f32,
+            inv_fy: (1.0 / k.fy) as f32,
+            fx: k.fx as f32,
+            fy: k.fy as f32,
+            w,
+            h,
+            far: cam.max_depth as f32,
+            slopes: [
+                ((-k.cx - 1.0) / k.fx) as f32,
+                ((w as f64 - k.cx) / k.fx) as f32,
+                ((-k.cy - 1.0) / k.fy) as f32,
+                ((h as f64 - k.cy) / k.fy) as f32,
+            ],
+        }
+    }
+
+    /// World point to the camera frame (m).
+    #[inline(always)]
+    fn to_cam(&self, p: [f32; 3]) -> [f32; 3] {
+        let dx = p[0] - self.o[0];
+        let dy = p[1] - self.o[1];
+        [dx * self.s - dy * self.c, self.o[2] - p[2], dx * self.c + dy * self.s]
+    }
+
+    /// Bits of the frustum planes (near, far, left, right, top, bottom) that a camera-frame
+    /// point lies outside of.
+    #[inline(always)]
+    fn outcode(&self, p: [f32; 3]) -> u32 {
+        let [xl, xr, yt, yb] = self.slopes;
+        (p[2] < NEAR) as u32
+            | ((p[2] > self.far) as u32) << 1
+            | ((p[0] < xl * p[2]) as u32) << 2
+            | ((p[0] > xr * p[2]) as u32) << 3
+            | ((p[1] < yt * p[2]) as u32) << 4
+            | ((p[1] > yb * p[2]) as u32) << 5
+    }
+}
+
+/// Smallest whole number >= `x`, for `x` in [-1, 2^23].
+#[inline(always)]
+fn ceil_small(x: f32) -> i32 {
+    let i = x as i32;
+    i + ((i as f32) < x) as i32
+}
+
+/// Largest whole number <= `x`, for `x` in [-1, 2^23].
+#[inline(always)]
+fn floor_small(x: f32) -> i32 {
+    let i = x as i32;
+    i - ((i as f32) > x) as i32
+}
+
+/// A cluster in view: index, nearest depth (m), pixel rectangle `[u0, u1, v0, v1]` inclusive.
+#[derive(Clone, Copy)]
+struct Vis {
+    idx: u32,
+    zmin: f32,
+    rect: [u16; 4],
+}
+
+/// Side of the square tiles of [`HiZ`] (px).
+const TILE: usize = 16;
+
+/// The farthest inverse depth drawn in each tile of an image: what lies behind it everywhere
+/// is hidden.
+struct HiZ {
+    tw: usize,
+    min_inv: Vec<f32>,
+}
+
+impl HiZ {
+    fn new(view: &View, zb: &[f32]) -> HiZ {
+        let tw = view.w.div_ceil(TILE);
+        let mut min_inv = vec![f32::INFINITY; tw * view.h.div_ceil(TILE)];
+        for (v, row) in zb.chunks(view.w).enumerate() {
+            let t = &mut min_inv[v / TILE * tw..][..tw];
+            for (i, chunk) in row.chunks(TILE).enumerate() {
+                t[i] = chunk.iter().fold(t[i], |m, &z| m.min(z));
+            }
+        }
+        HiZ { tw, min_inv }
+    }
+
+    /// True when everything drawn over the cluster's rectangle is nearer than its nearest point.
+    fn occludes(&self, v: &Vis) -> bool {
+        if v.zmin < NEAR {
+            return false;
+        }
+        let inv = 1.0 / v.zmin;
+        let [u0, u1, v0, v1] = v.rect.map(|x| x as usize / TILE);
+        (v0..=v1).all(|ty| self.min_inv[ty * self.tw + u0..=ty * self.tw + u1].iter().all(|&m| m > inv))
+    }
+}
+
+/// A triangle ready to rasterise: for each edge `e * xu + f * yv + g >= t` inside, inverse
+/// depth `a * xu + b * yv + c` (1/m), pixel bounding box (inclusive) and triangle index.
+#[derive(Clone, Copy)]
+struct Setup {
+    edges: [[f32; 4]; 3],
+    inv_z: [f32; 3],
+    bbox: [u16; 4],
+    id: u32,
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Sets up one camera-frame triangle, or `None` when it covers no pixel centre.
+#[inline(always)]
+fn setup(view: &View, p: [[f32; 3]; 3], id: u32) -> Option<Setup> {
+    let codes = [view.outcode(p[0]), view.outcode(p[1]), view.outcode(p[2])];
+    if codes[0] & codes[1] & codes[2] != 0 {
+        return None;
+    }
+    // Pixel bounding box of the part in front of the near plane.
+    let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+    let mut add = |q: [f32; 3]| {
+        let r = 1.0 / q[2];
+        let (x, y) = (q[0] * r, q[1] * r);
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    };
+    if (codes[0] | codes[1] | codes[2]) & 1 == 0 {
+        p.iter().for_each(|&q| add(q));
+    } else {
+        for i in 0..3 {
+            let (a, b) = (p[i], p[(i + 1) % 3]);
+            if a[2] >= NEAR {
+                add(a);
+            }
+            if (a[2] < NEAR) != (b[2] < NEAR) {
+                let t = (NEAR - a[2]) / (b[2] - a[2]);
+                add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
+            }
+        }
+    }
+    const M: f32 = 0.01;
+    let (wm, hm) = (view.w as f32 - 1.0, view.h as f32 - 1.0);
+    let u0 = ceil_small((view.cx + view.fx * x0 - M).clamp(-1.0, view.w as f32));
+    let u1 = floor_small((view.cx + view.fx * x1 + M).clamp(-1.0, view.w as f32));
+    let v0 = ceil_small((view.cy + view.fy * y0 - M).clamp(-1.0, view.h as f32));
+    let v1 = floor_small((view.cy + view.fy * y1 + M).clamp(-1.0, view.h as f32));
+    let (u0, u1, v0, v1) = (u0.max(0), u1.min(wm as i32), v0.max(0), v1.min(hm as i32));
+    if u0 > u1 || v0 > v1 {
+        return None;
+    }
+    // Plane n . q = d; inverse depth along the pixel ray (xu/fx, yv/fy, 1) is n . r / d.
+    let [a, b, c] = p;
+    let n = cross([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
+    let d = dot(n, a);
+    if !(d.abs() > 1e-12) {
+        return None;
+    }
+    let sign = if d > 0.0 { 1.0 } else { -1.0 };
+    let inv_z = [n[0] * view.inv_fx / d, n[1] * view.inv_fy / d, n[2] / d];
+    // Edge opposite each corner: the ray is inside iff sign * (q_i x q_j) . r >= 0 for all.
+    let edge = |q: [f32; 3], r: [f32; 3]| {
+        let k = cross(q, r);
+        let (e, f, g) = (sign * k[0] * view.inv_fx, sign * k[1] * view.inv_fy, sign * k[2]);
+        // Top-left rule: a pixel centre exactly on an edge belongs to one side only.
+        let t = if e > 0.0 || (e == 0.0 && f > 0.0) { 0.0 } else { f32::from_bits(1) };
+        [e, f, g, t]
+    };
+    Some(Setup {
+        edges: [edge(a, b), edge(b, c), edge(c, a)],
+        inv_z,
+        bbox: [u0 as u16, u1 as u16, v0 as u16, v1 as u16],
+        id,
+    })
+}
+
+impl RasterScene {
+    /// Gathers the scene's triangles into clusters; `None` for a scene without triangles.
+    pub fn new(scene: &Scene) -> Option<RasterScene> {
+        let mut tris = Vec::with_capacity(scene.triangle_count());
+        for m in &scene.meshes {
+            let c = m.base_color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+            for t in 0..m.indices.len() {
+                tris.push(Tri { v: m.triangle(t), color: [c[0], c[1], c[2]] });
+            }
+        }
+        if tris.is_empty() {
+            return None;
+        }
+        let b = scene.bounds();
+        let code = |t: &Tri| {
+            let mut m = 0u64;
+            for i in 0..3 {
+                let ctr = (t.v[0][i] + t.v[1][i] + t.v[2][i]) / 3.0;
+                let q = ((ctr - b.min[i]) / (b.max[i] - b.min[i]).max(1e-6) * 1023.0).clamp(0.0, 1023.0) as u32;
+                m |= spread3(q) << i;
+            }
+            m
+        };
+        let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
+        keyed.sort_unstable();
+        let tris: Vec<Tri> = keyed.iter().map(|&(_, i)| tris[i]).collect();
+        let clusters = (0..tris.len())
+            .step_by(CLUSTER)
+            .map(|start| {
+                let end = (start + CLUSTER).min(tris.len());
+                let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+                for t in &tris[start..end] {
+                    for p in t.v {
+                        for i in 0..3 {
+                            min[i] = min[i].min(p[i]);
+                            max[i] = max[i].max(p[i]);
+                        }
+                    }
+                }
+                Cluster { min, max, start: start as u32, end: end as u32 }
+            })
+            .collect();
+        Some(RasterScene { tris, clusters })
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Clusters in the view frustum, nearest first, with their nearest depth (m) and pixel
+    /// rectangle (inclusive; the whole image when they reach the near plane).
+    fn visible(&self, view: &View) -> Vec<Vis> {
+        let full = [0, view.w as u16 - 1, 0, view.h as u16 - 1];
+        let mut vis: Vec<Vis> = Vec::new();
+        for (idx, cl) in self.clusters.iter().enumerate() {
+            let mut corners = [[0f32; 3]; 8];
+            for (i, q) in corners.iter_mut().enumerate() {
+                let pick = |k: usize| if i >> k & 1 == 0 { cl.min[k] } else { cl.max[k] };
+                *q = view.to_cam([pick(0), pick(1), pick(2)]);
+            }
+            if corners.iter().fold(u32::MAX, |m, &q| m & view.outcode(q)) != 0 {
+                continue;
+            }
+            let zmin = corners.iter().fold(f32::INFINITY, |m, q| m.min(q[2]));
+            let rect = if zmin < NEAR {
+                full
+            } else {
+                let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+                for q in corners {
+                    let (x, y) = (q[0] / q[2], q[1] / q[2]);
+                    (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+                }
+                // One pixel of margin against rounding.
+                let px = |c: f32, f: f32, x: f32, n: usize| (c + f * x).clamp(1.0, n as f32 - 2.0);
+                [
+                    floor_small(px(view.cx, view.fx, x0, view.w)) as u16 - 1,
+                    ceil_small(px(view.cx, view.fx, x1, view.w)) as u16 + 1,
+                    floor_small(px(view.cy, view.fy, y0, view.h)) as u16 - 1,
+                    ceil_small(px(view.cy, view.fy, y1, view.h)) as u16 + 1,
+                ]
+            };
+            vis.push(Vis { idx: idx as u32, zmin, rect });
+        }
+        vis.sort_unstable_by(|a, b| a.zmin.total_cmp(&b.zmin).then(a.idx.cmp(&b.idx)));
+        vis
+    }
+
+    /// Sets up the triangles of the clusters `vis`, appending to `out`.
+    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>) {
+        for v in vis {
+            let cl = &self.clusters[v.idx as usize];
+            for id in cl.start..cl.end {
+                let t = &self.tris[id as usize];
+                let p = [view.to_cam(t.v[0]), view.to_cam(t.v[1]), view.to_cam(t.v[2])];
+                if let Some(s) = setup(view, p, id) {
+                    out.push(s);
+                }
+            }
+        }
+    }
+
+    /// Rasterises `tris` into the rows `r0..` of inverse depth `zb` (and triangle ids `ids`
+    /// when `ID`), keeping the nearest.
+    fn raster<const ID: bool>(view: &View, tris: &[Setup], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
+        let w = view.w;
+        let r1 = r0 + zb.len() / w;
+        for t in tris {
+            let [u0, u1, v0, v1] = t.bbox.map(|x| x as usize);
+            let (v0, v1) = (v0.max(r0), v1.min(r1 - 1));
+            if v0 > v1 {
+                continue;
+            }
+            let [e0, e1, e2] = t.edges;
+            let [za, zb_, zc] = t.inv_z;
+            for v in v0..=v1 {
+                let yv = v as f32 - view.cy;
+                let (g0, g1, g2) = (e0[1] * yv + e0[2], e1[1] * yv + e1[2], e2[1] * yv + e2[2]);
+                let gz = zb_ * yv + zc;
+                // The row's span, estimated from each edge's crossing with a pixel of margin;
+                // the exact edge tests below decide. Nearly constant edges give no bound.
+                let (mut lo, mut hi) = (u0 as f32, u1 as f32);
+                for (e, g) in [(e0, g0), (e1, g1), (e2, g2)] {
+                    if e[0].abs() * 1e4 > g.abs() {
+                        let b = (e[3] - g) / e[0] + view.cx;
+                        if e[0] > 0.0 {
+                            lo = lo.max(b - 1.0);
+                        } else {
+                            hi = hi.min(b + 1.0);
+                        }
+                    }
+                }
+                if !(lo <= hi) {
+                    continue;
+                }
+                let (u0, u1) = (ceil_small(lo) as usize, floor_small(hi) as usize);
+                if u0 > u1 {
+                    continue;
+                }
+                let row = (v - r0) * w;
+                let zrow = &mut zb[row + u0..=row + u1];
+                let x0 = u0 as f32 - view.cx;
+                if ID {
+                    let irow = &mut ids[row + u0..=row + u1];
+                    for (i, (z, id)) in zrow.iter_mut().zip(irow.iter_mut()).enumerate() {
+                        let xu = x0 + i as i32 as f32;
+                        let iz = za * xu + gz;
+                        let inside = e0[0] * xu + g0 >= e0[3] && e1[0] * xu + g1 >= e1[3] && e2[0] * xu + g2 >= e2[3];
+                        if inside && iz > *z {
+                            *z = iz;
+                            *id = t.id;
+                        }
+                    }
+                } else {
+                    for (i, z) in zrow.iter_mut().enumerate() {
+                        let xu = x0 + i as i32 as f32;
+                        let iz = za * xu + gz;
+                        let inside = (e0[0] * xu + g0 >= e0[3]) & (e1[0] * xu + g1 >= e1[3]) & (e2[0] * xu + g2 >= e2[3]);
+                        *z = if inside & (iz > *z) { iz } else { *z };
+                    }
+                }
+            }
+        }
+    }
+
+    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
+    /// of one view (or column strip), nearest clusters first with occlusion culling.
+    fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
+        let w = view.w;
+        let mut zb = vec![1.0 / view.far; w * view.h];
+        let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
+        let mut tris = Vec::new();
+        // The nearest clusters first; then the rest, less those behind what is drawn.
+        let vis = self.visible(view);
+        let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
+        self.setup_clusters(view, &vis[..split], &mut tris);
+        Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        if split < vis.len() {
+            let hiz = HiZ::new(view, &zb);
+            let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
+            tris.clear();
+            self.setup_clusters(view, &rest, &mut tris);
+            Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        }
+        (zb, ids)
+    }
+
+    /// Inverse depth and triangle ids (when `ID`) of the whole image, rendered in `strips`
+    /// column strips in parallel.
+    fn render_strips<const ID: bool>(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> (Vec<f32>, Vec<u32>) {
+        let (w, h) = (cam.width, cam.height);
+        let strips = strips.clamp(1, w.max(1));
+        if strips == 1 {
+            return self.render_inv::<ID>(&View::new(base, floor_z, cam, 0, w));
+        }
+        let edges: Vec<usize> = (0..=strips).map(|i| i * w / strips).collect();
+        let parts: Vec<(Vec<f32>, Vec<u32>)> =
+            (0..strips).into_par_iter().map(|i| self.render_inv::<ID>(&View::new(base, floor_z, cam, edges[i], edges[i + 1]))).collect();
+        let mut zb = vec![0f32; w * h];
+        let mut ids = if ID { vec![0u32; w * h] } else { Vec::new() };
+        for (i, (z, id)) in parts.iter().enumerate() {
+            let (c0, sw) = (edges[i], edges[i + 1] - edges[i]);
+            for v in 0..h {
+                zb[v * w + c0..][..sw].copy_from_slice(&z[v * sw..][..sw]);
+                if ID {
+                    ids[v * w + c0..][..sw].copy_from_slice(&id[v * sw..][..sw]);
+                }
+            }
+        }
+        (zb, ids)
+    }
+
+    fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> DepthImage {
+        let (mut data, _) = self.render_strips::<false>(base, floor_z, cam, strips);
+        let far = cam.max_depth as f32;
+        let near_w = 1.0 / far;
+        for z in &mut data {
+            let d = 1.0 / *z;
+            *z = if *z > near_w && d <= far { d } else { 0.0 };
+        }
+        DepthImage { width: cam.width, height: cam.height, data }
+    }
+
+    /// Renders the depth image seen from the robot at `base` standing on the floor at
+    /// `floor_z` (m), as [`super::render_depth`] does: depth along the optical axis (m), 0
+    /// where nothing is hit within `max_depth`. Uses all rayon threads.
+    pub fn render_depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> DepthImage {
+        self.depth(base, floor_z, cam, STRIPS)
+    }
+
+    /// Renders the depth images of many views (robot pose, floor height in m), one view per
+    /// rayon task; each image as [`RasterScene::render_depth`] gives it.
+    pub fn render_depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Vec<DepthImage> {
+        views.par_iter().map(|&(base, floor_z)| self.depth(base, floor_z, cam, 1)).collect()
+    }
+
+    /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
+    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle shaded
+    /// by `0.35 + 0.65 |cos incidence|`, black where nothing is hit within `max_depth`.
+    pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
+        let (zb, ids) = self.render_strips::<true>(base, floor_z, cam, STRIPS);
+        let far = cam.max_depth as f32;
+        let k = cam.intrinsics();
+        let (s, c) = base.yaw.sin_cos();
+        let mut data = vec![0u8; cam.width * cam.height * 3];
+        data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
+            let y = (v as f64 - k.cy) / k.fy;
+            for u in 0..cam.width {
+                let (z, id) = (zb[v * cam.width + u], ids[v * cam.width + u]);
+                if id == u32::MAX || !(1.0 / z <= far) {
+                    continue;
+                }
+                let x = (u as f64 - k.cx) / k.fx;
+                let dir = [c + x * s, s - x * c, -y];
+                let t = &self.tris[id as usize];
+                let p = t.v.map(|q| q.map(|x| x as f64));
+                let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
+                let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
+                let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+                let ln = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
+                let ld = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+                let cos = ((n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]) / (ln * ld)).abs();
+                let shade = 0.35 + 0.65 * cos;
+                for ch in 0..3 {
+                    row[u * 3 + ch] = (t.color[ch] as f64 * shade).round() as u8;
+                }
+            }
+        });
+        data
+    }
+}
