@@ -42,6 +42,104 @@ pub enum Command {
     /// Scene tools.
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// ROS 1 nodes: the simulator, the native navigation stack, a discrete agent.
+    #[command(subcommand)]
+    Ros(RosCommand),
+}
+
+/// `xhab ros ...`.
+#[derive(Debug, Subcommand)]
+pub enum RosCommand {
+    /// The simulator as a ROS node (scan, odom, tf, clock, camera, map, ground truth; cmd_vel or action in).
+    Sim(RosSimArgs),
+    /// The native navigation stack as a move_base-compatible node.
+    Nav(RosNavArgs),
+    /// A discrete Habitat-style agent node (ground truth and goal in, action out).
+    Agent(RosAgentArgs),
+}
+
+/// Options every ROS node takes.
+#[derive(Debug, Clone, Args)]
+pub struct RosOpts {
+    /// The ROS master (http://HOST:PORT) [default: $ROS_MASTER_URI, else start `rosmaster`].
+    #[arg(long, value_name = "URI", help_heading = "ROS")]
+    pub ros_master: Option<String>,
+    /// Node name.
+    #[arg(long, help_heading = "ROS")]
+    pub name: Option<String>,
+    /// Lock-step: wait for the peer's reply at each step.
+    #[arg(long, help_heading = "ROS")]
+    pub lockstep: bool,
+    /// Seconds to wait for a peer in lock-step before failing.
+    #[arg(long, default_value_t = 30.0, help_heading = "ROS")]
+    pub ros_timeout: f64,
+}
+
+/// `xhab ros sim`.
+#[derive(Debug, Args)]
+pub struct RosSimArgs {
+    /// The scene (glTF/GLB, OBJ, PLY, or procedural[:SEED]).
+    pub scene: String,
+    /// Map to publish on `map` (map_server YAML) [default: the scene's own map].
+    #[arg(long)]
+    pub map: Option<PathBuf>,
+    /// Start pose X,Y,YAW (world frame) [default: a random navigable point from --seed].
+    #[arg(long)]
+    pub start: Option<String>,
+    /// Publish the depth camera (and RGB with --rgb).
+    #[arg(long)]
+    pub camera: bool,
+    /// Also publish RGB images.
+    #[arg(long)]
+    pub rgb: bool,
+    /// Simulated seconds per wall second (0: as fast as possible).
+    #[arg(long, default_value_t = 1.0)]
+    pub rate: f64,
+    /// Period of the state loop (s).
+    #[arg(long, default_value_t = 0.05)]
+    pub period: f64,
+    /// Stop after this much simulated time (s).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Seed of the start pose and noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub ros: RosOpts,
+    #[command(flatten)]
+    pub physics: PhysicsOpts,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+}
+
+/// `xhab ros nav`.
+#[derive(Debug, Args)]
+pub struct RosNavArgs {
+    /// The static map (map_server YAML) [default: the map received on `map`].
+    #[arg(long)]
+    pub map: Option<PathBuf>,
+    /// Localisation.
+    #[arg(long, value_enum, default_value_t = LocalizationArg::Amcl)]
+    pub localization: LocalizationArg,
+    /// Navigation parameters (move_base-style YAML with ROS names).
+    #[arg(long)]
+    pub nav_params: Option<PathBuf>,
+    /// Seed of AMCL.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub ros: RosOpts,
+}
+
+/// `xhab ros agent`.
+#[derive(Debug, Args)]
+pub struct RosAgentArgs {
+    /// The scene (the oracle's privileged knowledge: its grid and geodesics).
+    pub scene: String,
+    #[command(flatten)]
+    pub ros: RosOpts,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
 }
 
 /// How to read a scene.

@@ -4,3 +4,4 @@ mod cli;
 mod map_vs_slam;
 mod sensors;
 mod raster;
+mod ros_interop;

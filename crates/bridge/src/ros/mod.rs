@@ -9,3 +9,4 @@ pub mod sim_node;
 pub mod agent_node;
 pub mod nav_node;
 pub mod bench;
+pub mod live;

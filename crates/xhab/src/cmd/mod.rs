@@ -8,6 +8,7 @@ mod map;
 mod navigate;
 mod perf;
 mod render;
+mod ros;
 mod scene;
 
 use crate::cli::{Cli, Command};
@@ -27,6 +28,7 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Navigate(a) => navigate::run(a),
         Command::Render(a) => render::run(a),
         Command::Scene(c) => scene::run(c),
+        Command::Ros(c) => ros::run(c),
     }
 }
 

@@ -1,0 +1,123 @@
+//! `xhab ros sim|nav|agent`: the simulator, the native stack and a discrete agent as ROS 1 nodes.
+
+use crate::cli::{LocalizationArg, RosCommand, RosOpts};
+use crate::scene_arg::load_world;
+use anyhow::{bail, Context, Result};
+use rand::SeedableRng;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Duration;
+use xhab_bridge::nav_agent::{Localization, NavSetup};
+use xhab_bridge::ros::live::{run_live, LiveOptions};
+use xhab_bridge::ros::master::Master;
+use xhab_nav::navigator::{params_from_yaml, NavParams};
+use xhab_sim::sensors::{CameraParams, LidarParams, RayScene};
+use xhab_types::Pose2;
+
+/// The master: --ros-master, else $ROS_MASTER_URI, else `None` (start one).
+fn master_uri(o: &RosOpts) -> Option<String> {
+    o.ros_master.clone().or_else(|| std::env::var("ROS_MASTER_URI").ok().filter(|s| !s.is_empty()))
+}
+
+pub fn run(c: &RosCommand) -> Result<ExitCode> {
+    match c {
+        RosCommand::Sim(a) => {
+            let mut opts = a.scene_opts.clone();
+            if a.physics.physics && opts.agent_radius.is_none() {
+                opts.agent_radius = Some(xhab_sim::robot::RobotProfile::named_or_file(&a.physics.robot)?.radius);
+            }
+            let world = load_world(&a.scene, &opts)?;
+            let floor = world.default_floor().context("the scene has no floor")?;
+            let grid = world.grid(floor)?;
+            let (start, z) = match &a.start {
+                Some(s) => {
+                    let v: Vec<f64> = s.split(',').map(|t| t.trim().parse::<f64>()).collect::<std::result::Result<_, _>>().map_err(|_| anyhow::anyhow!("bad --start '{s}': expected X,Y,YAW"))?;
+                    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+                        bail!("bad --start '{s}': expected three finite numbers X,Y,YAW");
+                    }
+                    (Pose2::new(v[0], v[1], v[2]), grid.floor_z)
+                }
+                None => {
+                    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(a.seed);
+                    let p = grid.sample_navigable_point(&[], &mut rng).context("no navigable point in the scene")?;
+                    (Pose2::new(p.x, p.y, 0.0), p.z)
+                }
+            };
+            let physics = super::bench::physics_setup(&world, &a.physics)?;
+            let rs = Arc::new(RayScene::new(&world.scene).context("the scene has no triangles")?);
+            let map = match &a.map {
+                Some(m) => xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0,
+                None => grid.occupancy_grid(),
+            };
+            let cam = CameraParams { mount_height: physics.as_ref().map_or(1.25, |p| p.profile.camera_height), ..Default::default() };
+            let o = LiveOptions {
+                master: master_uri(&a.ros),
+                name: a.ros.name.clone().unwrap_or_else(|| "xhab_sim".into()),
+                physics,
+                start,
+                start_z: z,
+                map: Some(map),
+                lidar: Some((rs.clone(), LidarParams::default())),
+                scan_period: 0.1,
+                camera: a.camera.then(|| (rs.clone(), cam, a.rgb)),
+                camera_period: 0.2,
+                period: a.period,
+                rate: a.rate,
+                lockstep: a.ros.lockstep,
+                duration: a.duration,
+                cmd_vel_timeout: 0.5,
+                seed: a.seed,
+                timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)),
+            };
+            eprintln!("xhab: simulating {} from ({:.2}, {:.2}, yaw {:.2}){}", a.scene, start.x, start.y, start.yaw, if o.physics.is_some() { " under physics (cmd_vel)" } else { " with discrete actions (action)" });
+            run_live(grid, &o)?;
+        }
+        RosCommand::Nav(a) => {
+            let params = match &a.nav_params {
+                Some(p) => {
+                    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+                    params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
+                }
+                None => NavParams::default(),
+            };
+            let map = match &a.map {
+                Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
+                None => None,
+            };
+            let localization = match a.localization {
+                LocalizationArg::GroundTruth => Localization::GroundTruth,
+                LocalizationArg::Odom => Localization::Odom,
+                LocalizationArg::Amcl => Localization::Amcl,
+            };
+            let setup = NavSetup { params, map: None, localization, lidar: None, scan_period: 0.1 };
+            let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, expect_scans: true, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
+            let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
+            eprintln!("xhab: ROS master {}", master.uri);
+            let name = a.ros.name.clone().unwrap_or_else(|| "xhab_nav".into());
+            let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
+            rt.block_on(async {
+                let (_tx, rx) = tokio::sync::watch::channel(false);
+                tokio::select! {
+                    r = xhab_bridge::ros::nav_node::run(&master.uri, &name, o, map, rx, None) => r,
+                    _ = tokio::signal::ctrl_c() => Ok(()),
+                }
+            })?;
+        }
+        RosCommand::Agent(a) => {
+            let world = Arc::new(load_world(&a.scene, &a.scene_opts)?);
+            let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
+            eprintln!("xhab: ROS master {}", master.uri);
+            let name = a.ros.name.clone().unwrap_or_else(|| "xhab_agent".into());
+            let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
+            let timeout = Duration::from_secs_f64(a.ros.ros_timeout.max(0.1));
+            rt.block_on(async {
+                let (_tx, rx) = tokio::sync::watch::channel(false);
+                tokio::select! {
+                    r = xhab_bridge::ros::agent_node::run(&master.uri, &name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, rx) => r,
+                    _ = tokio::signal::ctrl_c() => Ok(()),
+                }
+            })?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
