@@ -376,6 +376,9 @@ pub struct CameraOpts {
     /// Camera height above the robot's base (m).
     #[arg(long, default_value_t = 1.25, help_heading = "Camera")]
     pub camera_height: f64,
+    /// Also measure batched rendering: N views per call (`perf --sensors`), reported per view.
+    #[arg(long, value_name = "N", help_heading = "Camera")]
+    pub batch: Option<usize>,
 }
 
 /// `xhab render`.

@@ -13,7 +13,7 @@ use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
-use xhab_sim::sensors::{CameraParams, Lidar, LidarParams, RayScene};
+use xhab_sim::sensors::{CameraParams, Lidar, LidarParams, RayScene, Renderer};
 use xhab_types::{OccupancyGrid, Point3, Pose2, Twist};
 
 /// How `xhab ros sim` runs.
@@ -36,7 +36,7 @@ pub struct LiveOptions {
     /// Period between scans (s).
     pub scan_period: f64,
     /// The camera (depth, and RGB when the flag is set), published every `camera_period`.
-    pub camera: Option<(Arc<RayScene>, CameraParams, bool)>,
+    pub camera: Option<(Arc<Renderer>, CameraParams, bool)>,
     /// Period between camera frames (s).
     pub camera_period: f64,
     /// Period of the state loop (s): odom, tf, clock and one physics interval per cycle.

@@ -7,7 +7,7 @@ use super::node::{self, RosError};
 use roslibrust::ros1::{NodeHandle, Publisher};
 use std::time::Duration;
 use tokio::sync::mpsc;
-use xhab_sim::sensors::{render_depth, render_rgb, CameraParams, RayScene};
+use xhab_sim::sensors::{CameraParams, Renderer};
 use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
 
 /// The camera's optical frame (z forward, x right, y down).
@@ -148,16 +148,16 @@ impl SimNode {
     }
 
     /// Renders and publishes depth (and RGB when `want_rgb`) with their camera_info.
-    pub async fn publish_camera(&self, seq: u32, stamp: f64, scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool) -> Result<(), RosError> {
+    pub async fn publish_camera(&self, seq: u32, stamp: f64, renderer: &Renderer, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool) -> Result<(), RosError> {
         let want_depth = true;
         let k = cam.intrinsics();
         if want_depth {
-            let d = render_depth(scene, base, floor_z, cam);
+            let d = renderer.depth(base, floor_z, cam);
             self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &d)).await.map_err(|e| perr("depth", e))?;
         }
         if want_rgb {
-            let rgb = render_rgb(scene, base, floor_z, cam);
+            let rgb = renderer.rgb(base, floor_z, cam);
             self.rgb_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.rgb.publish(&cv::rgb_image(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, rgb)).await.map_err(|e| perr("rgb", e))?;
         }

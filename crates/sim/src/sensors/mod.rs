@@ -4,8 +4,10 @@ pub mod camera;
 pub mod lidar;
 pub mod raster;
 pub mod raycast;
+pub mod renderer;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
 pub use lidar::{Lidar, LidarParams};
 pub use raster::RasterScene;
 pub use raycast::RayScene;
+pub use renderer::{RenderError, Renderer, RendererKind};

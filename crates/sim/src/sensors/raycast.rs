@@ -52,12 +52,8 @@ impl RayScene {
             Vector::new(dir[0] as f32, dir[1] as f32, dir[2] as f32),
         );
         let hit = self.mesh.cast_local_ray_and_get_normal(&ray, max_t as f32, false)?;
-        let n = self.colors.len();
-        let color = match hit.feature {
-            parry3d::shape::FeatureId::Face(i) => self.colors.get(i as usize % n.max(1)).copied(),
-            _ => None,
-        }
-        .unwrap_or([160, 160, 160]);
+        // The hit's triangle is its sub-shape (its feature is only the triangle's side).
+        let color = self.colors.get(hit.subshape as usize).copied().unwrap_or([160, 160, 160]);
         let l = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt().max(1e-12);
         let cos = ((hit.normal.x as f64 * dir[0] + hit.normal.y as f64 * dir[1] + hit.normal.z as f64 * dir[2]) / l).abs();
         Some((hit.time_of_impact as f64, color, cos))

@@ -212,9 +212,9 @@ fn physics_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>
     }))
 }
 
-/// Discrete steps that render the camera at every step (`--sensors depth[,rgb]`).
+/// Discrete steps that render the camera at every step (`--sensors depth[,rgb]`), and with
+/// `--batch N` views rendered N at a time (N agents stepping together).
 fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>, episodes: &[Episode], a: &PerfArgs) -> Result<serde_json::Value> {
-    use xhab_sim::sensors::{render_depth, render_rgb, RayScene};
     for s in &a.sensors {
         if s != "depth" && s != "rgb" {
             anyhow::bail!("--sensors: unknown sensor '{s}' (depth, rgb)");
@@ -223,8 +223,8 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
     let cam = super::render::camera(&a.camera)?;
     let rgb = a.sensors.iter().any(|s| s == "rgb");
     let t = Instant::now();
-    let rs = RayScene::new(&world.scene).context("the scene has no triangles")?;
-    let bvh_s = t.elapsed().as_secs_f64();
+    let r = super::render::renderer(&a.camera, &world.scene)?;
+    let build_s = t.elapsed().as_secs_f64();
     let mut act_rng = ChaCha8Rng::seed_from_u64(17);
     let (mut steps, mut s) = (0u64, 0.0);
     let mut checksum = 0.0f64;
@@ -235,10 +235,10 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
             for _ in 0..50 {
                 let act = random_action(&mut act_rng);
                 env.step(act);
-                let img = render_depth(&rs, env.pose(), grid.floor_z, &cam);
+                let img = r.depth(env.pose(), grid.floor_z, &cam);
                 checksum += img.data[img.data.len() / 2] as f64;
                 if rgb {
-                    checksum += render_rgb(&rs, env.pose(), grid.floor_z, &cam)[0] as f64;
+                    checksum += r.rgb(env.pose(), grid.floor_z, &cam)[0] as f64;
                 }
             }
             s += t.elapsed().as_secs_f64();
@@ -248,15 +248,40 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
             }
         }
     }
-    Ok(serde_json::json!({
-        "renderer": "raycast",
+    let mut out = serde_json::json!({
+        "renderer": r.name(),
         "sensors": a.sensors,
         "resolution": cam.width,
         "render_threads": rayon::current_num_threads(),
-        "sensor_bvh_build_s": bvh_s,
+        "sensor_build_s": build_s,
         "depth_steps_per_s": steps as f64 / s,
         "sensor_checksum": checksum,
-    }))
+    });
+    if let Some(n) = a.camera.batch.filter(|&n| n > 0) {
+        // N agents, each stepping its own episode; their N views rendered in one call.
+        let mut envs: Vec<Env> = episodes.iter().cycle().take(episodes.len().max(1) * n).filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).take(n).collect();
+        if envs.is_empty() {
+            anyhow::bail!("--batch: no valid episode to place the agents");
+        }
+        let (mut views_done, mut s) = (0u64, 0.0);
+        while s < a.seconds {
+            let t = Instant::now();
+            for _ in 0..20 {
+                let views: Vec<(xhab_types::Pose2, f64)> = envs.iter_mut().map(|e| {
+                    e.step(random_action(&mut act_rng));
+                    (e.pose(), grid.floor_z)
+                }).collect();
+                let imgs = r.depth_batch(&views, &cam);
+                checksum += imgs.iter().map(|i| i.data[i.data.len() / 2] as f64).sum::<f64>();
+                views_done += views.len() as u64;
+            }
+            s += t.elapsed().as_secs_f64();
+        }
+        out["batch"] = serde_json::json!(envs.len());
+        out["depth_batch_steps_per_s"] = serde_json::json!(views_done as f64 / s);
+        out["sensor_checksum"] = serde_json::json!(checksum);
+    }
+    Ok(out)
 }
 
 /// A random discrete action without stop: forward half the time, turns otherwise.

@@ -5,20 +5,30 @@ use crate::scene_arg::load_scene;
 use anyhow::{bail, Context, Result};
 use image::{Rgb, RgbImage};
 use std::process::ExitCode;
-use xhab_sim::sensors::{render_depth, render_rgb, CameraParams, RayScene};
+use xhab_sim::sensors::{CameraParams, Renderer, RendererKind};
 use xhab_types::Pose2;
 
-/// Camera parameters from the options, refusing renderers that are not built.
+/// Camera parameters from the options.
 pub fn camera(o: &CameraOpts) -> Result<CameraParams> {
-    match o.renderer {
-        RendererArg::Auto | RendererArg::Raycast => {}
-        RendererArg::Raster | RendererArg::Wgpu => bail!("--renderer {:?}: not built yet; use raycast (or auto)", o.renderer),
-    }
     if o.resolution == 0 || o.resolution > 4096 || !(o.hfov > 0.0 && o.hfov < 180.0) {
         bail!("bad camera: --resolution must be in 1..=4096 and --hfov in (0, 180)");
     }
-    tracing::info!("renderer: raycast (CPU, parry3d BVH)");
     Ok(CameraParams { width: o.resolution, height: o.resolution, hfov_deg: o.hfov, mount_height: o.camera_height, ..Default::default() })
+}
+
+/// The renderer `--renderer` asks for, built for `scene`; `auto` takes the fastest path this
+/// machine has (the CPU rasteriser: it beats ray casting 7-20x). A log line says which.
+pub fn renderer(o: &CameraOpts, scene: &xhab_sim::scene::Scene) -> Result<Renderer> {
+    let kind = match o.renderer {
+        RendererArg::Raycast => RendererKind::Raycast,
+        RendererArg::Raster | RendererArg::Auto => RendererKind::Raster,
+        RendererArg::Wgpu => bail!("--renderer wgpu: the wgpu renderer is not built yet; use raster, raycast or auto"),
+    };
+    let r = Renderer::new(kind, scene)?;
+    let why = if matches!(o.renderer, RendererArg::Auto) { " (auto: no GPU renderer, fastest CPU path)" } else { "" };
+    tracing::info!("renderer: {}{why}", r.name());
+    eprintln!("xhab: renderer {}{why}", r.name());
+    Ok(r)
 }
 
 /// A depth colour map: near = yellow, far = dark blue, no return = black.
@@ -40,10 +50,10 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode> {
     }
     let cam = camera(&a.camera)?;
     let scene = load_scene(&a.scene, &a.scene_opts)?;
-    let rs = RayScene::new(&scene).context("the scene has no triangles")?;
+    let r = renderer(&a.camera, &scene)?;
     let pose = Pose2::new(v[0], v[1], v[3]);
-    let depth = render_depth(&rs, pose, v[2], &cam);
-    let rgb = render_rgb(&rs, pose, v[2], &cam);
+    let depth = r.depth(pose, v[2], &cam);
+    let rgb = r.rgb(pose, v[2], &cam);
     let (w, h) = (cam.width as u32, cam.height as u32);
     let mut img = RgbImage::new(2 * w + 4, h);
     for y in 0..h {

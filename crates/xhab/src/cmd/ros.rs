@@ -59,7 +59,10 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 map: Some(map),
                 lidar: Some((rs.clone(), LidarParams::default())),
                 scan_period: 0.1,
-                camera: a.camera.then(|| (rs.clone(), cam, a.rgb)),
+                camera: match a.camera {
+                    true => Some((Arc::new(xhab_sim::sensors::Renderer::new(xhab_sim::sensors::RendererKind::Raster, &world.scene)?), cam, a.rgb)),
+                    false => None,
+                },
                 camera_period: 0.2,
                 period: a.period,
                 rate: a.rate,
