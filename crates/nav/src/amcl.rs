@@ -325,25 +325,82 @@ impl Amcl {
         self.particles = out;
     }
 
-    /// Weighted mean pose (circular mean for yaw) and variances.
+    /// The estimate: weighted mean pose (circular mean for yaw) and variances of the heaviest
+    /// cluster of particles, as ROS amcl reports its best cluster. Clusters are connected
+    /// groups of occupied bins of 0.5 m x 0.5 m x 45 degrees (8-connected in x, y, yaw, with
+    /// yaw wrapping), so a filter still split between places (global localisation) reports the
+    /// likeliest place, not a point between them.
     pub fn estimate(&self) -> PoseEstimate {
+        let cluster = self.best_cluster();
+        let parts = || cluster.iter().map(|&i| &self.particles[i]);
         let (mut x, mut y, mut s, mut c, mut tw) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for (p, w) in &self.particles {
+        for (p, w) in parts() {
             x += w * p.x;
             y += w * p.y;
             s += w * p.yaw.sin();
             c += w * p.yaw.cos();
             tw += w;
         }
-        let tw = tw.max(1e-300);
+        let tw = f64::max(tw, 1e-300);
         let mean = Pose2::new(x / tw, y / tw, s.atan2(c));
         let mut v = [0.0; 3];
-        for (p, w) in &self.particles {
+        for (p, w) in parts() {
             v[0] += w * (p.x - mean.x).powi(2);
             v[1] += w * (p.y - mean.y).powi(2);
             v[2] += w * normalize_angle(p.yaw - mean.yaw).powi(2);
         }
         PoseEstimate { pose: mean, variance: v.map(|a| a / tw) }
+    }
+
+    /// Indices of the particles in the heaviest cluster (all of them when there is one).
+    fn best_cluster(&self) -> Vec<usize> {
+        use std::collections::HashMap;
+        const XY: f64 = 0.5;
+        const YAW_BINS: i64 = 8;
+        let key = |p: &Pose2| -> (i64, i64, i64) {
+            let a = ((normalize_angle(p.yaw) + std::f64::consts::PI) / (2.0 * std::f64::consts::PI) * YAW_BINS as f64).floor() as i64;
+            ((p.x / XY).floor() as i64, (p.y / XY).floor() as i64, a.rem_euclid(YAW_BINS))
+        };
+        let mut bins: HashMap<(i64, i64, i64), (usize, f64)> = HashMap::new();
+        let mut order = Vec::new();
+        for (p, w) in &self.particles {
+            let k = key(p);
+            let e = bins.entry(k).or_insert_with(|| {
+                order.push(k);
+                (usize::MAX, 0.0)
+            });
+            e.1 += w;
+        }
+        // Connected components by flood fill, in first-seen order (deterministic).
+        let mut comp_weight = Vec::new();
+        for &k in &order {
+            if bins[&k].0 != usize::MAX {
+                continue;
+            }
+            let id = comp_weight.len();
+            let mut total = 0.0;
+            let mut stack = vec![k];
+            bins.get_mut(&k).unwrap().0 = id;
+            while let Some((x, y, a)) = stack.pop() {
+                total += bins[&(x, y, a)].1;
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for da in -1..=1 {
+                            let n = (x + dx, y + dy, (a + da).rem_euclid(YAW_BINS));
+                            if let Some(e) = bins.get_mut(&n) {
+                                if e.0 == usize::MAX {
+                                    e.0 = id;
+                                    stack.push(n);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            comp_weight.push(total);
+        }
+        let best = comp_weight.iter().enumerate().fold((0, f64::MIN), |b, (i, &w)| if w > b.1 { (i, w) } else { b }).0;
+        (0..self.particles.len()).filter(|&i| bins[&key(&self.particles[i].0)].0 == best).collect()
     }
 
     /// The map -> odom correction for odometry pose `odom`: `estimate * odom^-1`.

@@ -42,9 +42,44 @@ pub enum Command {
     /// Scene tools.
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// Global localisation trials: AMCL from a uniform spread while the robot drives.
+    Localize(LocalizeArgs),
     /// ROS 1 nodes: the simulator, the native navigation stack, a discrete agent.
     #[command(subcommand)]
     Ros(RosCommand),
+}
+
+/// `xhab localize`.
+#[derive(Debug, Args)]
+pub struct LocalizeArgs {
+    /// The scene.
+    #[arg(long)]
+    pub scene: String,
+    /// Episodes whose starts the trials use (Habitat PointNav .json.gz).
+    #[arg(long)]
+    pub episodes: PathBuf,
+    /// Number of trials.
+    #[arg(long, default_value_t = 50)]
+    pub trials: usize,
+    /// Seed of trial i is SEED + i.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Convergence tolerance (m).
+    #[arg(long, default_value_t = 0.2)]
+    pub tolerance: f64,
+    /// Travel budget (m).
+    #[arg(long, default_value_t = 10.0)]
+    pub max_travel: f64,
+    /// The map AMCL localises on (map_server YAML) [default: the scene's own map].
+    #[arg(long)]
+    pub map: Option<PathBuf>,
+    /// JSON results file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub physics: PhysicsOpts,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
 }
 
 /// `xhab ros ...`.

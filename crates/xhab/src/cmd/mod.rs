@@ -4,6 +4,7 @@ mod bench;
 mod demo;
 mod episodes;
 mod geodesic;
+mod localize;
 mod map;
 mod navigate;
 mod perf;
@@ -29,6 +30,7 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Render(a) => render::run(a),
         Command::Scene(c) => scene::run(c),
         Command::Ros(c) => ros::run(c),
+        Command::Localize(a) => localize::run(a),
     }
 }
 
