@@ -73,6 +73,9 @@ pub struct LocalizeArgs {
     /// The map AMCL localises on (map_server YAML) [default: the scene's own map].
     #[arg(long)]
     pub map: Option<PathBuf>,
+    /// Navigation and AMCL parameters (move_base/amcl-style YAML with ROS names).
+    #[arg(long)]
+    pub nav_params: Option<PathBuf>,
     /// JSON results file.
     #[arg(long)]
     pub out: Option<PathBuf>,

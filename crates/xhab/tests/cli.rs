@@ -209,3 +209,23 @@ fn render_writes_depth_and_rgb_and_refuses_missing_renderers() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("not built yet"));
 }
+
+#[test]
+fn global_localization_converges_in_turtlebot3_house() {
+    let Some(data) = data_dir("global_localization_converges_in_turtlebot3_house") else { return };
+    let d = tmp("localize");
+    let out = d.join("gl.json");
+    let scene = data.join("scenes/turtlebot3_house.glb");
+    let eps = data.join("episodes/turtlebot3_house_pointnav.json.gz");
+    run(&["localize", "--scene", scene.to_str().unwrap(), "--episodes", eps.to_str().unwrap(), "--trials", "6", "--seed", "100", "--robot", "turtlebot3_burger", "--out", out.to_str().unwrap()]);
+    let v = read_json(&out);
+    assert_eq!(v["trials"], 6);
+    let frac = v["converged_fraction"].as_f64().unwrap();
+    eprintln!("global localisation: {frac:.2} of 6 trials converged");
+    assert!(frac >= 5.0 / 6.0, "{}", v["per_trial"]);
+    for t in v["per_trial"].as_array().unwrap() {
+        if t["converged"] == true {
+            assert!(t["travel_at_convergence_m"].as_f64().unwrap() <= 10.0);
+        }
+    }
+}

@@ -20,7 +20,13 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
     let world = load_world(&a.scene, &opts)?;
     let ds = xhab_sim::episode::read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
     let physics = super::bench::physics_setup(&world, &ph)?.context("physics setup")?;
-    let mut params = NavParams::default();
+    let mut params = match &a.nav_params {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            xhab_nav::navigator::params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
+        }
+        None => NavParams::default(),
+    };
     params.global_costmap.robot_radius = profile.radius;
     let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
     let setup = NavSetup { params, map: None, localization: Localization::Amcl, lidar: Some((Arc::new(rs), LidarParams::default())), scan_period: 0.1 };
