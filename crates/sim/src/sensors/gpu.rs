@@ -4,14 +4,17 @@
 //! The scene is uploaded once: shared vertex positions with an index buffer for depth, and
 //! de-indexed triangles with their face normal and colour for RGB. A batch of views is drawn
 //! in one submission into the layers of a 2D array texture (one render pass per layer, the
-//! view's matrices picked by the instance index), copied with one copy into one buffer
-//! (rows padded to 256 bytes) and read back. Every view is drawn at the same viewport, so a
-//! view's image is bit-identical alone or in any batch. Depth is the optical-axis distance written by the fragment shader into an
-//! `R32Float` target (perspective-correct interpolation of the camera-frame z), with a
+//! view's matrices picked by the instance index), copied with one copy into one buffer (rows
+//! padded to 256 bytes) and read back. Every view is drawn at the same viewport, so a view's
+//! image is bit-identical alone or in any batch.
+//!
+//! Depth is the optical-axis distance (m) written by the fragment shader into an `R32Float`
+//! target (perspective-correct interpolation of the camera-frame z), with a reversed-z
 //! `Depth32Float` buffer for the z test, the near plane at [`NEAR`] and `max_depth` as the far
 //! plane; the target is cleared to 0, so pixels where nothing is drawn read 0. The projection
 //! puts pixel `(u, v)` of the camera (centre ray `forward + x right - y up`, `x = (u - cx) /
-//! fx`, `y = (v - cy) / fy`) at the centre of framebuffer pixel `(u, v)`. No face culling.
+//! fx`, `y = (v - cy) / fy`, principal point included in the matrix) at the centre of
+//! framebuffer pixel `(u, v)`. No face culling.
 //!
 //! Without a GPU, Mesa's llvmpipe Vulkan driver (Debian package `mesa-vulkan-drivers`)
 //! renders on the CPU ([`GpuRenderer::is_software`]). Pipelines, targets and buffers are kept
@@ -24,8 +27,9 @@ use std::sync::{mpsc, Arc, Mutex};
 use wgpu::util::DeviceExt;
 use xhab_types::{DepthImage, Pose2};
 
-/// Near clipping plane (m): surfaces closer to the camera than this are not seen.
-pub const NEAR: f64 = 0.01;
+/// Near clipping plane (m): surfaces closer to the camera than this are not seen (as in the
+/// CPU rasteriser).
+pub const NEAR: f64 = 1e-3;
 
 /// Most targets (resolution, batch size, kind) kept between calls.
 const MAX_CACHED_TARGETS: usize = 8;
@@ -96,7 +100,9 @@ impl ViewUniform {
         // NDC y = 1 - 2 fb_y / H; clip = NDC * z.
         let (ax, bx) = (2.0 * k.fx / w, 2.0 * (k.cx + 0.5) / w - 1.0);
         let (ay, by) = (-2.0 * k.fy / h, 1.0 - 2.0 * (k.cy + 0.5) / h);
-        let (az, bz) = (far / (far - near), -far * near / (far - near));
+        // Reversed z (near -> 1, far -> 0): a float z buffer then resolves depth to ~1e-7
+        // relative everywhere, even with a near plane at 1 mm.
+        let (az, bz) = (-near / (far - near), far * near / (far - near));
         let rows: [[f64; 4]; 4] = [
             std::array::from_fn(|j| ax * rx[j] + bx * rz[j]),
             std::array::from_fn(|j| ay * ry[j] + by * rz[j]),
@@ -316,7 +322,7 @@ impl GpuRenderer {
         let depth_state = wgpu::DepthStencilState {
             format: wgpu::TextureFormat::Depth32Float,
             depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
+            depth_compare: Some(wgpu::CompareFunction::Greater),
             stencil: Default::default(),
             bias: Default::default(),
         };
@@ -563,7 +569,7 @@ impl GpuRenderer {
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &t.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Discard }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
