@@ -169,6 +169,8 @@ fn gpu_colour_matches_the_rasteriser() {
 
 #[test]
 fn gpu_renderer_errors_are_named() {
+    fn shareable<T: Send + Sync>() {}
+    shareable::<GpuRenderer>();
     // No triangles: refused before any device is asked for.
     assert!(matches!(GpuRenderer::new(&Scene::default()), Err(GpuError::EmptyScene)));
     assert!(GpuError::NoAdapter.to_string().contains("mesa-vulkan-drivers"));
