@@ -5,3 +5,4 @@ mod physics;
 mod scenes;
 mod geodesic_closed_form;
 mod raster;
+mod gpu;

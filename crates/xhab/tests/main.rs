@@ -5,3 +5,4 @@ mod map_vs_slam;
 mod sensors;
 mod raster;
 mod ros_interop;
+mod gpu;

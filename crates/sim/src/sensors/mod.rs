@@ -1,12 +1,14 @@
-//! Sensors by CPU ray casting (parry3d BVH) and rasterisation: the depth camera and a planar lidar.
+//! Sensors by CPU ray casting (parry3d BVH), CPU rasterisation and wgpu: the depth camera and a planar lidar.
 
 pub mod camera;
+pub mod gpu;
 pub mod lidar;
 pub mod raster;
 pub mod raycast;
 pub mod renderer;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
+pub use gpu::{GpuError, GpuRenderer};
 pub use lidar::{Lidar, LidarParams};
 pub use raster::RasterScene;
 pub use raycast::RayScene;
