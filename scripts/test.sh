@@ -5,10 +5,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # System packages the tests need: real ROS 1 from Debian for the interop tests (rosmaster,
-# rospy, rostopic, rosbag and the message definitions rospy loads).
+# rospy, rostopic, rosbag and the message definitions rospy loads), and Mesa's Vulkan driver
+# (llvmpipe) so that the wgpu renderer runs headless without a GPU.
 pkgs=(python3-rosmaster python3-rospy python3-rostopic python3-rosbag
       python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs
-      python3-tf2-msgs python3-rosgraph-msgs)
+      python3-tf2-msgs python3-rosgraph-msgs
+      mesa-vulkan-drivers)
 need=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || need+=("$p")
@@ -30,5 +32,6 @@ fi
 
 # The interop tests must run, not skip, wherever this script installed ROS.
 export XHAB_REQUIRE_ROS=1
+export XHAB_REQUIRE_GPU=1
 ./scripts/check_deps.sh
 cargo test --workspace --locked 2>&1

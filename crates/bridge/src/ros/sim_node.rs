@@ -152,12 +152,12 @@ impl SimNode {
         let want_depth = true;
         let k = cam.intrinsics();
         if want_depth {
-            let d = renderer.depth(base, floor_z, cam);
+            let d = renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?;
             self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &d)).await.map_err(|e| perr("depth", e))?;
         }
         if want_rgb {
-            let rgb = renderer.rgb(base, floor_z, cam);
+            let rgb = renderer.rgb(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering rgb: {e}")))?;
             self.rgb_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.rgb.publish(&cv::rgb_image(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, rgb)).await.map_err(|e| perr("rgb", e))?;
         }

@@ -1,5 +1,5 @@
-//! One camera interface over the renderers: CPU ray casting (the reference) and the CPU
-//! rasteriser; commands pick one with `--renderer`.
+//! One camera interface over the renderers: CPU ray casting (the reference), the CPU
+//! rasteriser and wgpu (Vulkan, headless); commands pick one with `--renderer`.
 
 use super::camera::{render_depth, render_rgb, CameraParams};
 use super::raster::RasterScene;
@@ -15,6 +15,8 @@ pub enum RendererKind {
     Raycast,
     /// Tiled, culled, multi-threaded CPU rasteriser.
     Raster,
+    /// wgpu on a Vulkan adapter (a GPU, or Mesa's llvmpipe without one).
+    Wgpu,
 }
 
 /// Why a renderer cannot be built.
@@ -23,6 +25,9 @@ pub enum RenderError {
     /// The scene has nothing to draw.
     #[error("the scene has no triangles to render")]
     EmptyScene,
+    /// The GPU path failed (no adapter, no driver, device lost).
+    #[error(transparent)]
+    Gpu(#[from] super::gpu::GpuError),
 }
 
 /// A renderer built for one scene.
@@ -31,6 +36,8 @@ pub enum Renderer {
     Raycast(RayScene),
     /// Rasterising.
     Raster(RasterScene),
+    /// wgpu.
+    Wgpu(super::gpu::GpuRenderer),
 }
 
 impl std::fmt::Debug for Renderer {
@@ -45,7 +52,21 @@ impl Renderer {
         Ok(match kind {
             RendererKind::Raycast => Renderer::Raycast(RayScene::new(scene).ok_or(RenderError::EmptyScene)?),
             RendererKind::Raster => Renderer::Raster(RasterScene::new(scene).ok_or(RenderError::EmptyScene)?),
+            RendererKind::Wgpu => Renderer::Wgpu(super::gpu::GpuRenderer::new(scene)?),
         })
+    }
+
+    /// The fastest renderer here: wgpu on a real GPU, else the CPU rasteriser (which beats
+    /// Mesa's software Vulkan driver on CPU). Also says why, for the log line.
+    pub fn auto(scene: &Scene) -> Result<(Renderer, String), RenderError> {
+        match super::gpu::GpuRenderer::new(scene) {
+            Ok(g) if !g.is_software() => {
+                let why = format!("GPU adapter {}", g.adapter_info());
+                Ok((Renderer::Wgpu(g), why))
+            }
+            Ok(g) => Ok((Renderer::new(RendererKind::Raster, scene)?, format!("only a software adapter ({}): the CPU rasteriser is faster", g.adapter_info()))),
+            Err(e) => Ok((Renderer::new(RendererKind::Raster, scene)?, format!("no GPU renderer ({e}): using the CPU rasteriser"))),
+        }
     }
 
     /// Its name as `--renderer` spells it.
@@ -53,30 +74,35 @@ impl Renderer {
         match self {
             Renderer::Raycast(_) => "raycast",
             Renderer::Raster(_) => "raster",
+            Renderer::Wgpu(_) => "wgpu",
         }
     }
 
     /// Depth (m along the optical axis, 0 = no hit) seen from `base` on the floor at `floor_z`.
-    pub fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> DepthImage {
-        match self {
+    pub fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<DepthImage, RenderError> {
+        Ok(match self {
             Renderer::Raycast(r) => render_depth(r, base, floor_z, cam),
             Renderer::Raster(r) => r.render_depth(base, floor_z, cam),
-        }
+            Renderer::Wgpu(r) => r.render_depth(base, floor_z, cam)?,
+        })
     }
 
     /// RGB bytes (row-major, top row first) seen from `base`.
-    pub fn rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
-        match self {
+    pub fn rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<Vec<u8>, RenderError> {
+        Ok(match self {
             Renderer::Raycast(r) => render_rgb(r, base, floor_z, cam),
             Renderer::Raster(r) => r.render_rgb(base, floor_z, cam),
-        }
+            Renderer::Wgpu(r) => r.render_rgb(base, floor_z, cam)?,
+        })
     }
 
-    /// Depth for many views (`(base, floor_z)` each), in order.
-    pub fn depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Vec<DepthImage> {
-        match self {
+    /// Depth for many views (`(base, floor_z)` each), in order; wgpu renders them in one
+    /// submission and reads them back in one copy.
+    pub fn depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<DepthImage>, RenderError> {
+        Ok(match self {
             Renderer::Raycast(r) => views.par_iter().map(|(b, z)| render_depth(r, *b, *z, cam)).collect(),
             Renderer::Raster(r) => r.render_depth_batch(views, cam),
-        }
+            Renderer::Wgpu(r) => r.render_depth_batch(views, cam)?,
+        })
     }
 }

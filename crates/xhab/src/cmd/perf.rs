@@ -235,10 +235,10 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
             for _ in 0..50 {
                 let act = random_action(&mut act_rng);
                 env.step(act);
-                let img = r.depth(env.pose(), grid.floor_z, &cam);
+                let img = r.depth(env.pose(), grid.floor_z, &cam)?;
                 checksum += img.data[img.data.len() / 2] as f64;
                 if rgb {
-                    checksum += r.rgb(env.pose(), grid.floor_z, &cam)[0] as f64;
+                    checksum += r.rgb(env.pose(), grid.floor_z, &cam)?[0] as f64;
                 }
             }
             s += t.elapsed().as_secs_f64();
@@ -271,7 +271,7 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
                     e.step(random_action(&mut act_rng));
                     (e.pose(), grid.floor_z)
                 }).collect();
-                let imgs = r.depth_batch(&views, &cam);
+                let imgs = r.depth_batch(&views, &cam)?;
                 checksum += imgs.iter().map(|i| i.data[i.data.len() / 2] as f64).sum::<f64>();
                 views_done += views.len() as u64;
             }

@@ -16,17 +16,28 @@ pub fn camera(o: &CameraOpts) -> Result<CameraParams> {
     Ok(CameraParams { width: o.resolution, height: o.resolution, hfov_deg: o.hfov, mount_height: o.camera_height, ..Default::default() })
 }
 
-/// The renderer `--renderer` asks for, built for `scene`; `auto` takes the fastest path this
-/// machine has (the CPU rasteriser: it beats ray casting 7-20x). A log line says which.
+/// The renderer `--renderer` asks for, built for `scene`; `auto` takes wgpu on a real GPU and
+/// the CPU rasteriser otherwise (with a warning when the GPU path failed). A line says which.
 pub fn renderer(o: &CameraOpts, scene: &xhab_sim::scene::Scene) -> Result<Renderer> {
-    let kind = match o.renderer {
-        RendererArg::Raycast => RendererKind::Raycast,
-        RendererArg::Raster | RendererArg::Auto => RendererKind::Raster,
-        RendererArg::Wgpu => bail!("--renderer wgpu: the wgpu renderer is not built yet; use raster, raycast or auto"),
+    let (r, why) = match o.renderer {
+        RendererArg::Auto => {
+            let (r, why) = Renderer::auto(scene)?;
+            (r, format!(" (auto: {why})"))
+        }
+        RendererArg::Raycast => (Renderer::new(RendererKind::Raycast, scene)?, String::new()),
+        RendererArg::Raster => (Renderer::new(RendererKind::Raster, scene)?, String::new()),
+        RendererArg::Wgpu => {
+            let r = Renderer::new(RendererKind::Wgpu, scene).map_err(|e| anyhow::anyhow!("--renderer wgpu: {e}"))?;
+            let info = match &r {
+                Renderer::Wgpu(g) => format!(" ({})", g.adapter_info()),
+                _ => String::new(),
+            };
+            (r, info)
+        }
     };
-    let r = Renderer::new(kind, scene)?;
-    let why = if matches!(o.renderer, RendererArg::Auto) { " (auto: no GPU renderer, fastest CPU path)" } else { "" };
-    tracing::info!("renderer: {}{why}", r.name());
+    if why.contains("no GPU renderer") {
+        tracing::warn!("renderer: {}{why}", r.name());
+    }
     eprintln!("xhab: renderer {}{why}", r.name());
     Ok(r)
 }
@@ -52,8 +63,8 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode> {
     let scene = load_scene(&a.scene, &a.scene_opts)?;
     let r = renderer(&a.camera, &scene)?;
     let pose = Pose2::new(v[0], v[1], v[3]);
-    let depth = r.depth(pose, v[2], &cam);
-    let rgb = r.rgb(pose, v[2], &cam);
+    let depth = r.depth(pose, v[2], &cam)?;
+    let rgb = r.rgb(pose, v[2], &cam)?;
     let (w, h) = (cam.width as u32, cam.height as u32);
     let mut img = RgbImage::new(2 * w + 4, h);
     for y in 0..h {
