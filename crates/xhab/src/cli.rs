@@ -130,6 +130,15 @@ pub struct RosSimArgs {
     /// Also publish RGB images.
     #[arg(long)]
     pub rgb: bool,
+    /// Renderer of the camera.
+    #[arg(long, value_enum, default_value_t = RendererArg::Auto)]
+    pub renderer: RendererArg,
+    /// Depth noise: standard deviation at 1 m (m), growing with depth squared (0 = off).
+    #[arg(long, default_value_t = 0.0)]
+    pub depth_noise: f64,
+    /// Probability that a pixel on a depth edge (jump > 0.1 m) reads 0 (0 = off).
+    #[arg(long, default_value_t = 0.0)]
+    pub edge_dropout: f64,
     /// Simulated seconds per wall second (0: as fast as possible).
     #[arg(long, default_value_t = 1.0)]
     pub rate: f64,

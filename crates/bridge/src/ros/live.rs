@@ -39,6 +39,8 @@ pub struct LiveOptions {
     pub camera: Option<(Arc<Renderer>, CameraParams, bool)>,
     /// Period between camera frames (s).
     pub camera_period: f64,
+    /// Depth noise (off by default).
+    pub depth_noise: xhab_sim::sensors::DepthNoise,
     /// Period of the state loop (s): odom, tf, clock and one physics interval per cycle.
     pub period: f64,
     /// Simulated seconds per wall second (0 = as fast as possible).
@@ -113,7 +115,7 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
                 if let Some((rs, cam, rgb)) = &o.camera {
                     if t + 1e-9 >= next_frame {
                         next_frame += o.camera_period;
-                        sim.publish_camera(seq, t, rs, env.pose(), grid.floor_z, cam, *rgb).await?;
+                        sim.publish_camera(seq, t, rs, env.pose(), grid.floor_z, cam, *rgb, &o.depth_noise, o.seed).await?;
                     }
                 }
                 if o.lockstep {
@@ -150,7 +152,7 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
                 let st = RobotState { seq, stamp: t, truth: p, floor_z: o.start_z, odom: p, twist: Twist::default(), scan: scan.as_ref().map(|s| (s, o.scan_period, laser_z)) };
                 sim.publish_state(&st).await?;
                 if let Some((rs, cam, rgb)) = &o.camera {
-                    sim.publish_camera(seq, t, rs, p, grid.floor_z, cam, *rgb).await?;
+                    sim.publish_camera(seq, t, rs, p, grid.floor_z, cam, *rgb, &o.depth_noise, o.seed).await?;
                 }
                 // Wait for the next action; republish the state every period meanwhile.
                 let a = loop {

@@ -7,7 +7,7 @@ use super::node::{self, RosError};
 use roslibrust::ros1::{NodeHandle, Publisher};
 use std::time::Duration;
 use tokio::sync::mpsc;
-use xhab_sim::sensors::{CameraParams, Renderer};
+use xhab_sim::sensors::{CameraParams, DepthNoise, Renderer};
 use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
 
 /// The camera's optical frame (z forward, x right, y down).
@@ -147,12 +147,14 @@ impl SimNode {
         self.truth.publish(&gt).await.map_err(|e| perr("ground_truth/pose", e))
     }
 
-    /// Renders and publishes depth (and RGB when `want_rgb`) with their camera_info.
-    pub async fn publish_camera(&self, seq: u32, stamp: f64, renderer: &Renderer, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool) -> Result<(), RosError> {
+    /// Renders and publishes depth (with `noise`, seeded by `seed` and `seq`; and RGB when
+    /// `want_rgb`) with their camera_info.
+    pub async fn publish_camera(&self, seq: u32, stamp: f64, renderer: &Renderer, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool, noise: &DepthNoise, seed: u64) -> Result<(), RosError> {
         let want_depth = true;
         let k = cam.intrinsics();
         if want_depth {
-            let d = renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?;
+            let mut d = renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?;
+            noise.apply(&mut d, seed ^ (seq as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
             self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &d)).await.map_err(|e| perr("depth", e))?;
         }

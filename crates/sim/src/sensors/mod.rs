@@ -1,6 +1,7 @@
 //! Sensors by CPU ray casting (parry3d BVH), CPU rasterisation and wgpu: the depth camera and a planar lidar.
 
 pub mod camera;
+pub mod depth_noise;
 pub mod gpu;
 pub mod lidar;
 pub mod raster;
@@ -8,6 +9,7 @@ pub mod raycast;
 pub mod renderer;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
+pub use depth_noise::DepthNoise;
 pub use gpu::{GpuError, GpuRenderer};
 pub use lidar::{Lidar, LidarParams};
 pub use raster::RasterScene;

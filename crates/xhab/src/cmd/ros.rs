@@ -43,6 +43,9 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                     (Pose2::new(p.x, p.y, 0.0), p.z)
                 }
             };
+            if !(a.depth_noise >= 0.0 && a.depth_noise.is_finite()) || !(0.0..=1.0).contains(&a.edge_dropout) {
+                bail!("--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
+            }
             let physics = super::bench::physics_setup(&world, &a.physics)?;
             let rs = Arc::new(RayScene::new(&world.scene).context("the scene has no triangles")?);
             let map = match &a.map {
@@ -60,10 +63,14 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 lidar: Some((rs.clone(), LidarParams::default())),
                 scan_period: 0.1,
                 camera: match a.camera {
-                    true => Some((Arc::new(xhab_sim::sensors::Renderer::new(xhab_sim::sensors::RendererKind::Raster, &world.scene)?), cam, a.rgb)),
+                    true => {
+                        let o = crate::cli::CameraOpts { renderer: a.renderer, resolution: cam.width, hfov: cam.hfov_deg, camera_height: cam.mount_height, batch: None };
+                        Some((Arc::new(super::render::renderer(&o, &world.scene)?), cam, a.rgb))
+                    }
                     false => None,
                 },
                 camera_period: 0.2,
+                depth_noise: xhab_sim::sensors::DepthNoise { sigma_at_1m: a.depth_noise, edge_threshold: 0.1, edge_dropout: a.edge_dropout },
                 period: a.period,
                 rate: a.rate,
                 lockstep: a.ros.lockstep,
