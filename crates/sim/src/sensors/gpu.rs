@@ -2,7 +2,9 @@
 //! the ray caster ([`super::camera`]) and the CPU rasteriser ([`super::RasterScene`]).
 //!
 //! The scene is uploaded once: shared vertex positions with an index buffer for depth, and
-//! de-indexed triangles with their face normal and colour for RGB. A batch of views is drawn
+//! de-indexed triangles with their face normal and colour for RGB, both in the order of
+//! spatial clusters (Morton order of the centroids, 128 triangles each); per view only the
+//! clusters whose bounding box meets the view frustum are drawn. A batch of views is drawn
 //! in one submission into the layers of a 2D array texture (one render pass per layer, the
 //! view's matrices picked by the instance index), copied with one copy into one buffer (rows
 //! padded to 256 bytes) and read back. Every view is drawn at the same viewport, so a view's
@@ -158,6 +160,8 @@ pub struct GpuRenderer {
     flat_attrs: wgpu::Buffer,
     flat_count: u32,
     targets: Mutex<HashMap<(Kind, usize, usize, usize), Target>>,
+    /// Spatial clusters of the triangles (in buffer order), for frustum culling per view.
+    clusters: Vec<Cluster>,
 }
 
 impl std::fmt::Debug for GpuRenderer {
@@ -237,9 +241,8 @@ impl GpuRenderer {
     pub fn new(scene: &Scene) -> Result<GpuRenderer, GpuError> {
         // Gather the geometry first: an empty scene needs no device.
         let mut positions: Vec<[f32; 3]> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut flat_pos: Vec<[f32; 3]> = Vec::new();
-        let mut flat_attr: Vec<[f32; 6]> = Vec::new();
+        // Triangles: corner indices into `positions`, normal (unit) and colour (bytes 0..255).
+        let mut tris: Vec<([u32; 3], [f32; 6])> = Vec::new();
         for m in &scene.meshes {
             let color = m.base_color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round());
             let base = positions.len() as u32;
@@ -248,22 +251,22 @@ impl GpuRenderer {
                 if t.iter().any(|&i| i as usize >= m.positions.len()) {
                     continue;
                 }
-                indices.extend(t.iter().map(|&i| i + base));
                 let p = t.map(|i| m.positions[i as usize].map(|x| x as f64));
                 let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
                 let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
                 let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
                 let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
                 let attr = [(n[0] / l) as f32, (n[1] / l) as f32, (n[2] / l) as f32, color[0], color[1], color[2]];
-                for &i in t {
-                    flat_pos.push(m.positions[i as usize]);
-                    flat_attr.push(attr);
-                }
+                tris.push((t.map(|i| i + base), attr));
             }
         }
-        if indices.is_empty() {
+        if tris.is_empty() {
             return Err(GpuError::EmptyScene);
         }
+        let (tris, clusters) = cluster(&positions, tris);
+        let indices: Vec<u32> = tris.iter().flat_map(|t| t.0).collect();
+        let flat_pos: Vec<[f32; 3]> = tris.iter().flat_map(|t| t.0.map(|i| positions[i as usize])).collect();
+        let flat_attr: Vec<[f32; 6]> = tris.iter().flat_map(|t| [t.1; 3]).collect();
 
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::VULKAN,
@@ -393,6 +396,7 @@ impl GpuRenderer {
             flat_attrs,
             flat_count: flat_pos.len() as u32,
             targets: Mutex::new(HashMap::new()),
+            clusters,
         })
     }
 
@@ -446,6 +450,45 @@ impl GpuRenderer {
             out.push(px.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect());
         })?;
         Ok(out)
+    }
+
+    /// Runs of triangles (buffer order) whose clusters may be seen from the view: clusters
+    /// whose bounding box lies wholly outside one plane of the frustum (near, `max_depth`, the
+    /// image sides one pixel beyond the edge) are skipped. Nothing visible is dropped.
+    fn visible(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<std::ops::Range<u32>> {
+        let k = cam.intrinsics();
+        let (s, c) = base.yaw.sin_cos();
+        let o = [base.x, base.y, floor_z + cam.mount_height];
+        let (w, h) = (cam.width as f64, cam.height as f64);
+        let [xl, xr, yt, yb] = [(-k.cx - 1.0) / k.fx, (w - k.cx) / k.fx, (-k.cy - 1.0) / k.fy, (h - k.cy) / k.fy];
+        let far = cam.max_depth * (1.0 + 1e-6) + 1e-6;
+        let near = NEAR * 0.5;
+        let mut out: Vec<std::ops::Range<u32>> = Vec::new();
+        for cl in &self.clusters {
+            let mut all = 0x3fu32;
+            for corner in 0..8 {
+                let p = [0, 1, 2].map(|a| if corner >> a & 1 == 0 { cl.min[a] } else { cl.max[a] } as f64);
+                let (dx, dy) = (p[0] - o[0], p[1] - o[1]);
+                let (x, y, z) = (dx * s - dy * c, o[2] - p[2], dx * c + dy * s);
+                all &= (z < near) as u32
+                    | ((z > far) as u32) << 1
+                    | ((x < xl * z) as u32) << 2
+                    | ((x > xr * z) as u32) << 3
+                    | ((y < yt * z) as u32) << 4
+                    | ((y > yb * z) as u32) << 5;
+                if all == 0 {
+                    break;
+                }
+            }
+            if all != 0 {
+                continue;
+            }
+            match out.last_mut() {
+                Some(r) if r.end == cl.start => r.end = cl.end,
+                _ => out.push(cl.start..cl.end),
+            }
+        }
+        out
     }
 
     /// Views that fit in one submission of `w` x `h` images (array layers, readback buffer
@@ -578,18 +621,24 @@ impl GpuRenderer {
             });
             pass.set_bind_group(0, &t.bind_group, &[]);
             let inst = i as u32..i as u32 + 1;
+            let (base, floor_z) = views[i];
+            let ranges = self.visible(base, floor_z, cam);
             match kind {
                 Kind::Depth => {
                     pass.set_pipeline(&self.depth_pipeline);
                     pass.set_vertex_buffer(0, self.positions.slice(..));
                     pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..self.index_count, 0, inst);
+                    for r in ranges {
+                        pass.draw_indexed(3 * r.start..3 * r.end, 0, inst.clone());
+                    }
                 }
                 Kind::Rgb => {
                     pass.set_pipeline(&self.rgb_pipeline);
                     pass.set_vertex_buffer(0, self.flat_positions.slice(..));
                     pass.set_vertex_buffer(1, self.flat_attrs.slice(..));
-                    pass.draw(0..self.flat_count, inst);
+                    for r in ranges {
+                        pass.draw(3 * r.start..3 * r.end, inst.clone());
+                    }
                 }
             }
         }
@@ -635,4 +684,67 @@ fn check(e: Option<wgpu::Error>) -> Result<(), GpuError> {
         Some(e @ wgpu::Error::OutOfMemory { .. }) => Err(GpuError::OutOfMemory(e.to_string())),
         Some(e) => Err(GpuError::Validation(e.to_string())),
     }
+}
+
+/// Triangles per cluster.
+const CLUSTER: usize = 128;
+
+/// A run of triangles `start..end` (buffer order) and its bounding box (world, m).
+struct Cluster {
+    min: [f32; 3],
+    max: [f32; 3],
+    start: u32,
+    end: u32,
+}
+
+/// Spreads the low 10 bits of `x` to every third bit.
+fn spread3(x: u32) -> u64 {
+    let mut x = (x & 0x3ff) as u64;
+    x = (x | (x << 16)) & 0x0300_00ff;
+    x = (x | (x << 8)) & 0x0300_f00f;
+    x = (x | (x << 4)) & 0x030c_30c3;
+    (x | (x << 2)) & 0x0924_9249
+}
+
+/// Sorts the triangles by the Morton code of their centroids and cuts them into clusters of
+/// [`CLUSTER`] with their bounding boxes.
+fn cluster(positions: &[[f32; 3]], tris: Vec<([u32; 3], [f32; 6])>) -> (Vec<([u32; 3], [f32; 6])>, Vec<Cluster>) {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for t in &tris {
+        for &i in &t.0 {
+            for a in 0..3 {
+                lo[a] = lo[a].min(positions[i as usize][a]);
+                hi[a] = hi[a].max(positions[i as usize][a]);
+            }
+        }
+    }
+    let code = |t: &([u32; 3], [f32; 6])| {
+        let mut m = 0u64;
+        for a in 0..3 {
+            let ctr = t.0.iter().map(|&i| positions[i as usize][a]).sum::<f32>() / 3.0;
+            let q = ((ctr - lo[a]) / (hi[a] - lo[a]).max(1e-6) * 1023.0).clamp(0.0, 1023.0) as u32;
+            m |= spread3(q) << a;
+        }
+        m
+    };
+    let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
+    keyed.sort_unstable();
+    let tris: Vec<([u32; 3], [f32; 6])> = keyed.iter().map(|&(_, i)| tris[i]).collect();
+    let clusters = (0..tris.len())
+        .step_by(CLUSTER)
+        .map(|start| {
+            let end = (start + CLUSTER).min(tris.len());
+            let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+            for t in &tris[start..end] {
+                for &i in &t.0 {
+                    for a in 0..3 {
+                        min[a] = min[a].min(positions[i as usize][a]);
+                        max[a] = max[a].max(positions[i as usize][a]);
+                    }
+                }
+            }
+            Cluster { min, max, start: start as u32, end: end as u32 }
+        })
+        .collect();
+    (tris, clusters)
 }
