@@ -10,11 +10,6 @@ pub fn time(t: f64) -> Time {
     Time { secs: (ns / 1_000_000_000) as i32, nsecs: (ns % 1_000_000_000) as i32 }
 }
 
-/// Seconds of a ROS time.
-pub fn seconds(t: &Time) -> f64 {
-    t.secs as f64 + t.nsecs as f64 * 1e-9
-}
-
 /// A header with sequence number `seq`, stamp `t` (s) and frame `frame`.
 pub fn header(seq: u32, t: f64, frame: &str) -> std_msgs::Header {
     std_msgs::Header { seq, stamp: time(t), frame_id: frame.to_string() }

@@ -12,7 +12,7 @@
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs, tf2_msgs};
-use super::node::{self, Inbox, RosError, Sequenced};
+use super::node::{self, Inbox, RosError};
 use super::sim_node::{PROBE_SEQ, READY_ACTION};
 use crate::nav_agent::{NavBrain, NavInputs, NavReply, NavSetup};
 use roslibrust::ros1::Publisher;
@@ -121,9 +121,10 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
         };
         if od.header.seq == PROBE_SEQ {
             // Handshake: answer on both reply topics once every input has shown a probe.
-            for ib in [&mut goals as &mut dyn Absorb, &mut inits, &mut maps, &mut scans] {
-                ib.absorb_all();
-            }
+            goals.absorb();
+            inits.absorb();
+            maps.absorb();
+            scans.absorb();
             if let Some(t) = truths.as_mut() {
                 t.absorb();
             }
@@ -216,13 +217,3 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
     Ok(())
 }
 
-/// Any inbox, to take in what has arrived.
-trait Absorb {
-    fn absorb_all(&mut self);
-}
-
-impl<T: Sequenced> Absorb for Inbox<T> {
-    fn absorb_all(&mut self) {
-        self.absorb();
-    }
-}

@@ -697,14 +697,6 @@ struct Cluster {
     end: u32,
 }
 
-/// Spreads the low 10 bits of `x` to every third bit.
-fn spread3(x: u32) -> u64 {
-    let mut x = (x & 0x3ff) as u64;
-    x = (x | (x << 16)) & 0x0300_00ff;
-    x = (x | (x << 8)) & 0x0300_f00f;
-    x = (x | (x << 4)) & 0x030c_30c3;
-    (x | (x << 2)) & 0x0924_9249
-}
 
 /// Sorts the triangles by the Morton code of their centroids and cuts them into clusters of
 /// [`CLUSTER`] with their bounding boxes.
@@ -718,15 +710,7 @@ fn cluster(positions: &[[f32; 3]], tris: Vec<([u32; 3], [f32; 6])>) -> (Vec<([u3
             }
         }
     }
-    let code = |t: &([u32; 3], [f32; 6])| {
-        let mut m = 0u64;
-        for a in 0..3 {
-            let ctr = t.0.iter().map(|&i| positions[i as usize][a]).sum::<f32>() / 3.0;
-            let q = ((ctr - lo[a]) / (hi[a] - lo[a]).max(1e-6) * 1023.0).clamp(0.0, 1023.0) as u32;
-            m |= spread3(q) << a;
-        }
-        m
-    };
+    let code = |t: &([u32; 3], [f32; 6])| super::raster::morton_code(std::array::from_fn(|a| t.0.iter().map(|&i| positions[i as usize][a]).sum::<f32>() / 3.0), lo, hi);
     let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
     keyed.sort_unstable();
     let tris: Vec<([u32; 3], [f32; 6])> = keyed.iter().map(|&(_, i)| tris[i]).collect();

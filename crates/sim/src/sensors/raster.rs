@@ -54,6 +54,17 @@ impl std::fmt::Debug for RasterScene {
     }
 }
 
+/// The 30-bit Morton code of point `p` quantised to 1024 steps per axis in the box `[lo, hi]`
+/// (shared by the rasteriser's and the GPU renderer's triangle clusters).
+pub(crate) fn morton_code(p: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> u64 {
+    let mut m = 0u64;
+    for i in 0..3 {
+        let q = ((p[i] - lo[i]) / (hi[i] - lo[i]).max(1e-6) * 1023.0).clamp(0.0, 1023.0) as u32;
+        m |= spread3(q) << i;
+    }
+    m
+}
+
 /// Spreads the low 10 bits of `x` to every third bit.
 fn spread3(x: u32) -> u64 {
     let mut x = (x & 0x3ff) as u64;
@@ -287,15 +298,7 @@ impl RasterScene {
             return None;
         }
         let b = scene.bounds();
-        let code = |t: &Tri| {
-            let mut m = 0u64;
-            for i in 0..3 {
-                let ctr = (t.v[0][i] + t.v[1][i] + t.v[2][i]) / 3.0;
-                let q = ((ctr - b.min[i]) / (b.max[i] - b.min[i]).max(1e-6) * 1023.0).clamp(0.0, 1023.0) as u32;
-                m |= spread3(q) << i;
-            }
-            m
-        };
+        let code = |t: &Tri| morton_code(std::array::from_fn(|i| (t.v[0][i] + t.v[1][i] + t.v[2][i]) / 3.0), b.min, b.max);
         let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
         keyed.sort_unstable();
         let tris: Vec<Tri> = keyed.iter().map(|&(_, i)| tris[i]).collect();
