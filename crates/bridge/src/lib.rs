@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod agents;
+pub mod explore;
 pub mod global_localization;
 pub mod nav_agent;
 pub mod runner;

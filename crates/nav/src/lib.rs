@@ -7,8 +7,11 @@
 
 pub mod amcl;
 pub mod costmap;
+pub mod depth_projection;
 pub mod depth_to_scan;
 pub mod dwa;
+pub mod frontier;
+pub mod map_agreement;
 pub mod map_server;
 pub mod mapping;
 pub mod navigator;

@@ -249,6 +249,29 @@ pub struct MapArgs {
     /// Floor: `auto` (the lowest) or a height in metres (Habitat's y, i.e. up).
     #[arg(long, default_value = "auto")]
     pub floor: String,
+    /// Build the map by exploring: the robot, under physics with its lidar, goes to the
+    /// nearest reachable frontier until none is left, mapping as it goes.
+    #[arg(long, help_heading = "Exploration")]
+    pub explore: bool,
+    /// Robot profile that explores: habitat, locobot, turtlebot3_burger, turtlebot3_waffle, or a .yaml file.
+    #[arg(long, default_value = "habitat", help_heading = "Exploration")]
+    pub robot: String,
+    /// Start X,Y,YAW (world/map frame: m, m, rad) [default: the navigable cell nearest the
+    /// centre of the largest island].
+    #[arg(long, allow_hyphen_values = true, help_heading = "Exploration")]
+    pub start: Option<String>,
+    /// Navigation parameters (move_base-style YAML with ROS names).
+    #[arg(long, help_heading = "Exploration")]
+    pub nav_params: Option<PathBuf>,
+    /// Exploration time limit (simulated s).
+    #[arg(long, default_value_t = 1800.0, help_heading = "Exploration")]
+    pub max_time: f64,
+    /// Seed (lidar noise).
+    #[arg(long, default_value_t = 0, help_heading = "Exploration")]
+    pub seed: u64,
+    /// Print the exploration report as JSON on stdout.
+    #[arg(long, help_heading = "Exploration")]
+    pub json: bool,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
 }

@@ -1,4 +1,5 @@
-//! `xhab map`: a map_server map and a picture of a scene's floor.
+//! `xhab map`: a map_server map and a picture of a scene's floor, derived from the scene's
+//! geometry or (`--explore`) built by a robot exploring it.
 
 use crate::cli::MapArgs;
 use crate::report::MapPicture;
@@ -7,15 +8,29 @@ use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
-use xhab_types::OccupancyGrid;
+use xhab_bridge::explore::{default_start, ExploreParams};
+use xhab_nav::map_agreement::map_agreement;
+use xhab_nav::navigator::{params_from_yaml, NavParams};
+use xhab_sim::navgrid::NavGrid;
+use xhab_sim::robot::{PhysicsScene, RobotProfile};
+use xhab_sim::sensors::RayScene;
+use xhab_sim::world::World;
+use xhab_types::{OccupancyGrid, Point2, Pose2};
 
 pub fn run(a: &MapArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let mut opts = a.scene_opts.clone();
     opts.cell_size = a.resolution;
+    let profile = if a.explore { Some(RobotProfile::named_or_file(&a.robot).with_context(|| format!("--robot {}", a.robot))?) } else { None };
+    if let Some(p) = &profile {
+        opts.agent_radius.get_or_insert(p.radius);
+    }
     let world = load_world(&a.scene, &opts)?;
     let floor = floor_index(&world, &a.floor)?;
     let grid = world.grid(floor).with_context(|| format!("building the map of {}", a.scene))?;
+    if let Some(profile) = profile {
+        return explore(a, &world, &grid, profile, t0);
+    }
     let map = grid.occupancy_grid();
     let (yaml, png) = write_map(&map, &a.out)?;
     let (free, occ) = counts(&map);
@@ -30,6 +45,76 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
         occ,
         png.display(),
         t0.elapsed().as_secs_f64()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--explore`: the robot explores the floor; writes the map it built, its path drawn on the
+/// picture, and how the map agrees with the one derived from the geometry.
+fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0: Instant) -> Result<ExitCode> {
+    let mut nav = match &a.nav_params {
+        Some(p) => params_from_yaml(&std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?,
+        None => NavParams::default(),
+    };
+    if a.nav_params.is_none() {
+        nav.global_costmap.robot_radius = profile.radius;
+        nav.global_costmap.footprint = profile.footprint.clone().unwrap_or_default();
+    }
+    let start = match &a.start {
+        Some(s) => {
+            let v = super::navigate::numbers(s, 3, "--start (X,Y,YAW)")?;
+            Pose2::new(v[0], v[1], v[2])
+        }
+        None => default_start(grid).context("the floor has no navigable cell to start from")?,
+    };
+    if !grid.is_navigable(start.position()) {
+        anyhow::bail!("--start ({:.2}, {:.2}) is not navigable for the robot", start.x, start.y);
+    }
+    let physics = PhysicsScene::new(&world.scene)?;
+    let rays = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
+    let params = ExploreParams { max_time: a.max_time, ..Default::default() };
+    let run = xhab_bridge::explore::explore(grid, &physics, &rays, &profile, &nav, &params, start, a.seed)?;
+    let (yaml, png) = write_map(&run.map, &a.out)?;
+    let mut pic = MapPicture::new(&run.map);
+    let pts: Vec<Point2> = run.trajectory.iter().map(|p| p.position()).collect();
+    pic.polyline(&pts, [230, 120, 0]);
+    pic.dot(start.position(), 4, [0, 170, 0]);
+    pic.save(&png)?;
+    let reference = grid.occupancy_grid();
+    let agree = map_agreement(&run.map, &reference);
+    let (free, occ) = counts(&run.map);
+    let report = serde_json::json!({
+        "scene": a.scene,
+        "robot": profile.name,
+        "start": [start.x, start.y, start.yaw],
+        "end": run.end,
+        "sim_s": run.sim_s,
+        "travel_m": run.travel_m,
+        "targets_reached": run.targets_reached,
+        "targets_abandoned": run.targets_abandoned,
+        "free_m2": free as f64 * run.map.resolution * run.map.resolution,
+        "occupied_cells": occ,
+        "reference_free_coverage": agree.free_coverage,
+        "free_occupied_in_reference": agree.free_occupied_in_reference,
+        "wall_s": t0.elapsed().as_secs_f64(),
+        "map": yaml,
+    });
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    }
+    eprintln!(
+        "xhab: explored for {:.0} s simulated ({:.1} m driven, {} frontiers reached, {} abandoned, ended: {:?}) in {:.2} s; \
+         the map covers {:.1}% of the free space of the scene's map, {:.2}% of its free cells are occupied there; wrote {} and {}",
+        run.sim_s,
+        run.travel_m,
+        run.targets_reached,
+        run.targets_abandoned,
+        run.end,
+        t0.elapsed().as_secs_f64(),
+        100.0 * agree.free_coverage,
+        100.0 * agree.free_occupied_in_reference,
+        yaml.display(),
+        png.display()
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -17,7 +17,7 @@ use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_types::{Point2, Point3};
 
-fn numbers(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
+pub(crate) fn numbers(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
     let v: Vec<f64> = s.split(',').map(|t| t.trim().parse::<f64>()).collect::<std::result::Result<_, _>>().map_err(|_| anyhow::anyhow!("bad {what} '{s}'"))?;
     if v.len() != n || v.iter().any(|x| !x.is_finite()) {
         bail!("bad {what} '{s}': expected {n} finite numbers");

@@ -1,0 +1,85 @@
+//! How well a built map agrees with a reference map of the same place: how much of the
+//! reference's free space it covers, and how much of its own free space the reference holds
+//! occupied. Cells are matched by their centres, so the maps may differ in extent, origin and
+//! resolution (neither may be rotated).
+
+use serde::{Deserialize, Serialize};
+use xhab_types::{OccupancyGrid, GRID_FREE, GRID_OCCUPIED};
+
+/// Agreement of a built map with a reference.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MapAgreement {
+    /// Free cells of the reference.
+    pub reference_free_cells: usize,
+    /// Fraction of the reference's free cells that are free in the built map (0..1).
+    pub free_coverage: f64,
+    /// Free cells of the built map.
+    pub built_free_cells: usize,
+    /// Fraction of the built map's free cells that are occupied in the reference (0..1).
+    pub free_occupied_in_reference: f64,
+}
+
+/// The value of `map` at point `p` (m), if inside.
+fn at(map: &OccupancyGrid, p: xhab_types::Point2) -> Option<i8> {
+    map.world_to_cell(p).map(|(c, r)| map.get(c, r))
+}
+
+/// Compares `built` with `reference`.
+pub fn map_agreement(built: &OccupancyGrid, reference: &OccupancyGrid) -> MapAgreement {
+    let (mut ref_free, mut covered) = (0usize, 0usize);
+    for r in 0..reference.height {
+        for c in 0..reference.width {
+            if reference.get(c, r) == GRID_FREE {
+                ref_free += 1;
+                covered += (at(built, reference.cell_center(c, r)) == Some(GRID_FREE)) as usize;
+            }
+        }
+    }
+    let (mut built_free, mut wrong) = (0usize, 0usize);
+    for r in 0..built.height {
+        for c in 0..built.width {
+            if built.get(c, r) == GRID_FREE {
+                built_free += 1;
+                wrong += (at(reference, built.cell_center(c, r)) == Some(GRID_OCCUPIED)) as usize;
+            }
+        }
+    }
+    MapAgreement {
+        reference_free_cells: ref_free,
+        free_coverage: covered as f64 / ref_free.max(1) as f64,
+        built_free_cells: built_free,
+        free_occupied_in_reference: wrong as f64 / built_free.max(1) as f64,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use xhab_types::{Pose2, GRID_UNKNOWN};
+
+    #[test]
+    fn counts_coverage_and_false_free_cells() {
+        let mut reference = OccupancyGrid::new(10, 10, 0.1, Pose2::default(), GRID_FREE);
+        for c in 0..10 {
+            reference.set(c, 9, GRID_OCCUPIED);
+        }
+        // Built at half the resolution, shifted so that no cell centre lies on an edge of the
+        // other map: coarse cells 1..5 span 0.03..1.03 m.
+        let mut built = OccupancyGrid::new(6, 6, 0.2, Pose2::new(-0.17, -0.17, 0.0), GRID_UNKNOWN);
+        for r in 1..6 {
+            for c in 1..6 {
+                built.set(c, r, GRID_FREE);
+            }
+        }
+        // Reference free: 90 cells (rows 0..8), all inside the built map's free cells.
+        let a = map_agreement(&built, &reference);
+        assert_eq!(a.reference_free_cells, 90);
+        assert!((a.free_coverage - 1.0).abs() < 1e-12, "{a:?}");
+        assert_eq!(a.built_free_cells, 25);
+        // The top coarse row's centres (y = 0.93 m) lie on the reference's wall row: 5 of 25.
+        assert!((a.free_occupied_in_reference - 5.0 / 25.0).abs() < 1e-12, "{a:?}");
+        built.set(1, 1, GRID_OCCUPIED);
+        let b = map_agreement(&built, &reference);
+        assert!((b.free_coverage - 86.0 / 90.0).abs() < 1e-12, "{b:?}");
+    }
+}
