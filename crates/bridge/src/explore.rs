@@ -1,8 +1,13 @@
-//! Frontier-based exploration: the robot, under physics with its lidar, builds an occupancy
+//! Frontier-based exploration: the robot, under physics with its sensors, builds an occupancy
 //! map of a scene it has never seen, going to the nearest reachable frontier until none is
-//! left, as users of the original ran a mapping package before navigating. The map is built
-//! with known poses (the simulator's ground truth), the navigator plans on the map built so
-//! far (unknown space counts as free, as move_base with `track_unknown_space: false`).
+//! left, as users of the original ran a mapping package before navigating.
+//!
+//! Sensors: the planar lidar (free space all around, walls), the depth camera projected onto
+//! the floor plan (obstacles anywhere in the body band, such as table tops above the lidar's
+//! plane, and floor seen free), and a ring of downward cliff rays (where the floor ends).
+//! The map is built with known poses (the simulator's ground truth); the navigator plans on
+//! the map built so far (unknown space counts as free, as move_base with
+//! `track_unknown_space: false`).
 
 use serde::{Deserialize, Serialize};
 use xhab_nav::costmap::{Costmap, INSCRIBED};
@@ -11,8 +16,12 @@ use xhab_nav::mapping::{Mapper, MapperParams};
 use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::robot::{PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, RobotProfile};
-use xhab_sim::sensors::{Lidar, LidarParams, RayScene};
+use xhab_nav::depth_projection::{project_depth, ProjectionParams};
+use xhab_sim::sensors::{CameraParams, Lidar, LidarParams, RayScene, Renderer};
 use xhab_types::{OccupancyGrid, Point2, Pose2};
+
+/// How far beyond the scene's grid the map reaches (m).
+const MARGIN: f64 = 1.0;
 
 /// Exploration settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -26,6 +35,14 @@ pub struct ExploreParams {
     pub lidar: LidarParams,
     /// Time between scans (s, default 0.1 = 10 Hz).
     pub scan_period: f64,
+    /// Time between depth images (s, default 0.2 = 5 Hz).
+    pub camera_period: f64,
+    /// Which depth points are obstacles and which floor.
+    pub projection: ProjectionParams,
+    /// Cliff rays: this many, on a circle this far beyond the robot's radius (default 16, 0.2 m).
+    pub cliff_rays: usize,
+    /// Distance of the cliff rays beyond the robot's radius (m, default 0.2).
+    pub cliff_distance: f64,
     /// Time between frontier searches while heading for a target (s, default 2).
     pub planner_period: f64,
     /// Exploration ends after this much simulated time (s, default 1800).
@@ -41,6 +58,10 @@ impl Default for ExploreParams {
             mapper: MapperParams::default(),
             lidar: LidarParams::default(),
             scan_period: 0.1,
+            camera_period: 0.2,
+            projection: ProjectionParams::default(),
+            cliff_rays: 16,
+            cliff_distance: 0.2,
             planner_period: 2.0,
             max_time: 1800.0,
             physics: PhysicsParams::default(),
@@ -63,7 +84,7 @@ pub enum ExploreEnd {
 /// What an exploration run produced.
 #[derive(Debug, Clone)]
 pub struct Exploration {
-    /// The map built (same origin, resolution and size as the scene's grid).
+    /// The map built (the scene grid's cells, and a margin of 1 m around them).
     pub map: OccupancyGrid,
     /// Why it ended.
     pub end: ExploreEnd,
@@ -89,13 +110,25 @@ pub enum ExploreError {
     /// A parameter is out of range.
     #[error("{0}")]
     Param(String),
+    /// The depth camera failed.
+    #[error("depth camera: {0}")]
+    Render(#[from] xhab_sim::sensors::RenderError),
 }
 
-/// Explores the floor of `grid` from `start` (m, rad) with the robot `profile`, scanning
-/// `rays`, driven by a navigator with `nav`; seeded (lidar noise).
+/// What the robot senses with.
+pub struct ExploreSensors<'a> {
+    /// The scene for lidar and cliff rays.
+    pub rays: &'a RayScene,
+    /// The depth camera's renderer and parameters, if the robot has one.
+    pub camera: Option<(&'a Renderer, CameraParams)>,
+}
+
+/// Explores the floor of `grid` from `start` (m, rad) with the robot `profile` and its
+/// `sensors`, driven by a navigator with `nav`; seeded (lidar noise).
 #[allow(clippy::too_many_arguments)]
-pub fn explore(grid: &NavGrid, physics: &PhysicsScene, rays: &RayScene, profile: &RobotProfile, nav: &NavParams, p: &ExploreParams, start: Pose2, seed: u64) -> Result<Exploration, ExploreError> {
-    for (name, v) in [("scan_period", p.scan_period), ("planner_period", p.planner_period), ("max_time", p.max_time), ("controller_period", nav.dwa.controller_period)] {
+pub fn explore(grid: &NavGrid, physics: &PhysicsScene, sensors: &ExploreSensors<'_>, profile: &RobotProfile, nav: &NavParams, p: &ExploreParams, start: Pose2, seed: u64) -> Result<Exploration, ExploreError> {
+    let rays = sensors.rays;
+    for (name, v) in [("scan_period", p.scan_period), ("camera_period", p.camera_period), ("planner_period", p.planner_period), ("max_time", p.max_time), ("controller_period", nav.dwa.controller_period)] {
         if !(v.is_finite() && v > 0.0) {
             return Err(ExploreError::Param(format!("{name}: must be > 0, got {v}")));
         }
@@ -104,12 +137,15 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, rays: &RayScene, profile:
     let res = grid.resolution();
     let (w, h) = grid.size();
     let o = grid.origin();
-    let mut mapper = Mapper::new(o, Point2::new(o.x + w as f64 * res, o.y + h as f64 * res), MapperParams { resolution: res, ..p.mapper.clone() });
+    // The map spans the scene's grid and a margin where cliffs past the floor's edge can be
+    // marked; it keeps the grid's cell boundaries.
+    let m = (MARGIN / res).ceil() * res;
+    let mut mapper = Mapper::new(Point2::new(o.x - m, o.y - m), Point2::new(o.x + w as f64 * res + m, o.y + h as f64 * res + m), MapperParams { resolution: res, ..p.mapper.clone() });
     let mut lidar = Lidar::new(p.lidar.clone(), seed);
     let mut navigator = Navigator::new(nav.clone());
     let period = nav.dwa.controller_period;
     let steps = (period / robot.dt()).round().max(1.0) as usize;
-    let (mut scans, mut last_search) = (0u64, f64::NEG_INFINITY);
+    let (mut scans, mut frames, mut last_search) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut target: Option<Point2> = None;
     let mut blacklist: Vec<Point2> = Vec::new();
     let (mut reached, mut abandoned, mut travel) = (0usize, 0usize, 0.0);
@@ -128,6 +164,20 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, rays: &RayScene, profile:
             let scan = lidar.scan(rays, pose, grid.floor_z);
             mapper.integrate(&scan, pose);
             navigator.add_scan(&scan, pose);
+            let cliffs = cliffs(rays, pose, grid, profile.radius + p.cliff_distance, p.cliff_rays);
+            if !cliffs.is_empty() {
+                mapper.integrate_points(&cliffs, &[]);
+                // The navigator must know at once: the robot is near an edge.
+                last_search = f64::NEG_INFINITY;
+            }
+        }
+        if let Some((r, cam)) = &sensors.camera {
+            if t + 1e-9 >= frames as f64 * p.camera_period {
+                frames += 1;
+                let depth = r.depth(pose, grid.floor_z, cam)?;
+                let pts = project_depth(&depth, &cam.intrinsics(), pose, cam.mount_height, &p.projection);
+                mapper.integrate_points(&pts.obstacles, &pts.floor);
+            }
         }
         // A new target when there is none, or when the map grown since shows that the target's
         // frontier is gone (seen from afar) or that the target lies in an obstacle's inflation;
@@ -178,6 +228,19 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, rays: &RayScene, profile:
         }
     };
     Ok(Exploration { map: mapper.to_grid(), end, sim_s: robot.sim_time(), travel_m: travel, targets_reached: reached, targets_abandoned: abandoned, trajectory })
+}
+
+/// Cliff rays: `n` rays cast down on a circle of `radius` (m) around the robot; the points
+/// where no floor lies within the agent's `max_climb` below the floor height.
+fn cliffs(rays: &RayScene, pose: Pose2, grid: &NavGrid, radius: f64, n: usize) -> Vec<Point2> {
+    let top = 0.5;
+    (0..n)
+        .filter_map(|i| {
+            let a = pose.yaw + i as f64 * std::f64::consts::TAU / n as f64;
+            let q = Point2::new(pose.x + radius * a.cos(), pose.y + radius * a.sin());
+            rays.cast([q.x, q.y, grid.floor_z + top], [0.0, 0.0, -1.0], top + grid.params.max_climb).is_none().then_some(q)
+        })
+        .collect()
 }
 
 /// A start for exploration: the cell of the grid's largest island nearest its centre with

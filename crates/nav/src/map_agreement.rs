@@ -13,9 +13,10 @@ pub struct MapAgreement {
     pub reference_free_cells: usize,
     /// Fraction of the reference's free cells that are free in the built map (0..1).
     pub free_coverage: f64,
-    /// Free cells of the built map.
+    /// Free cells of the built map inside the reference's extent.
     pub built_free_cells: usize,
-    /// Fraction of the built map's free cells that are occupied in the reference (0..1).
+    /// Fraction of the built map's free cells inside the reference's extent that are occupied
+    /// in the reference (0..1).
     pub free_occupied_in_reference: f64,
 }
 
@@ -39,8 +40,10 @@ pub fn map_agreement(built: &OccupancyGrid, reference: &OccupancyGrid) -> MapAgr
     for r in 0..built.height {
         for c in 0..built.width {
             if built.get(c, r) == GRID_FREE {
-                built_free += 1;
-                wrong += (at(reference, built.cell_center(c, r)) == Some(GRID_OCCUPIED)) as usize;
+                if let Some(v) = at(reference, built.cell_center(c, r)) {
+                    built_free += 1;
+                    wrong += (v == GRID_OCCUPIED) as usize;
+                }
             }
         }
     }
@@ -71,6 +74,8 @@ mod tests {
                 built.set(c, r, GRID_FREE);
             }
         }
+        // A free cell outside the reference's extent counts for neither.
+        built.set(0, 0, GRID_FREE);
         // Reference free: 90 cells (rows 0..8), all inside the built map's free cells.
         let a = map_agreement(&built, &reference);
         assert_eq!(a.reference_free_cells, 90);

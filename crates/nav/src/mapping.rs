@@ -111,7 +111,9 @@ impl Mapper {
     }
 
     /// Integrates one depth image's points (world frame, m) into the camera layer: a hit for
-    /// each cell holding an obstacle point, a miss for each other cell holding a floor point.
+    /// each cell holding an obstacle point, a miss for each other cell holding a floor point
+    /// unless the cell has had more hits than misses. Seeing the floor under a table does not
+    /// say that the table is gone: obstacles in the body band stand.
     pub fn integrate_points(&mut self, obstacles: &[Point2], floor: &[Point2]) {
         let (hit, miss, clamp) = (logit(self.params.prob_hit) as f32, logit(self.params.prob_miss) as f32, self.params.clamp as f32);
         let hits: std::collections::HashSet<usize> = obstacles.iter().filter_map(|&p| self.cell(p)).collect();
@@ -121,7 +123,9 @@ impl Mapper {
             self.band_seen[c] = true;
         }
         for c in frees {
-            self.band_log_odds[c] = (self.band_log_odds[c] + miss).max(-clamp);
+            if self.band_log_odds[c] <= 0.0 {
+                self.band_log_odds[c] = (self.band_log_odds[c] + miss).max(-clamp);
+            }
             self.band_seen[c] = true;
         }
     }

@@ -269,6 +269,9 @@ pub struct MapArgs {
     /// Seed (lidar noise).
     #[arg(long, default_value_t = 0, help_heading = "Exploration")]
     pub seed: u64,
+    /// Renderer of the robot's depth camera.
+    #[arg(long, value_enum, default_value_t = RendererArg::Auto, help_heading = "Exploration")]
+    pub renderer: RendererArg,
     /// Print the exploration report as JSON on stdout.
     #[arg(long, help_heading = "Exploration")]
     pub json: bool,

@@ -1,14 +1,14 @@
 //! `xhab map`: a map_server map and a picture of a scene's floor, derived from the scene's
 //! geometry or (`--explore`) built by a robot exploring it.
 
-use crate::cli::MapArgs;
+use crate::cli::{CameraOpts, MapArgs};
 use crate::report::MapPicture;
 use crate::scene_arg::{floor_index, load_world};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
-use xhab_bridge::explore::{default_start, ExploreParams};
+use xhab_bridge::explore::{default_start, ExploreParams, ExploreSensors};
 use xhab_nav::map_agreement::map_agreement;
 use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_sim::navgrid::NavGrid;
@@ -72,8 +72,15 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
     }
     let physics = PhysicsScene::new(&world.scene)?;
     let rays = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-    let params = ExploreParams { max_time: a.max_time, ..Default::default() };
-    let run = xhab_bridge::explore::explore(grid, &physics, &rays, &profile, &nav, &params, start, a.seed)?;
+    let cam_opts = CameraOpts { renderer: a.renderer, resolution: 256, hfov: 90.0, camera_height: profile.camera_height, batch: None };
+    let renderer = super::render::renderer(&cam_opts, &world.scene)?;
+    let cam = super::render::camera(&cam_opts)?;
+    let mut params = ExploreParams { max_time: a.max_time, ..Default::default() };
+    // Obstacles are what the robot would hit: from the highest step it climbs to its height.
+    params.projection.min_obstacle_height = grid.params.max_climb;
+    params.projection.max_obstacle_height = profile.height;
+    let sensors = ExploreSensors { rays: &rays, camera: Some((&renderer, cam)) };
+    let run = xhab_bridge::explore::explore(grid, &physics, &sensors, &profile, &nav, &params, start, a.seed)?;
     let (yaml, png) = write_map(&run.map, &a.out)?;
     let mut pic = MapPicture::new(&run.map);
     let pts: Vec<Point2> = run.trajectory.iter().map(|p| p.position()).collect();
