@@ -188,8 +188,8 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, sensors: &ExploreSensors<
             let cm = Costmap::from_map(&map, &nav.global_costmap);
             let valid = |g: Point2| frontier_near(&map, g, p.frontier.blacklist_radius) && cm.cost_at(g) < INSCRIBED;
             if !target.is_some_and(valid) {
-                let frontiers = find_frontiers(&map, &cm, pose.position(), &p.frontier);
-                let Some(f) = nearest_frontier(&frontiers, &blacklist, &p.frontier) else { break ExploreEnd::Done };
+                let frontiers = find_frontiers(&map, &cm, pose.position(), &blacklist, &p.frontier);
+                let Some(f) = nearest_frontier(&frontiers) else { break ExploreEnd::Done };
                 let goal = f.target.expect("reachable frontiers have a target");
                 tracing::debug!("t {t:.1} s: frontier of {:.2} m at ({:.2}, {:.2}), {:.2} m away", f.size_m, goal.x, goal.y, f.distance);
                 target = Some(goal);
@@ -201,6 +201,7 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, sensors: &ExploreSensors<
         match cmd.status {
             NavStatus::Succeeded => {
                 reached += 1;
+                tracing::debug!("t {t:.1} s: reached {target:?}");
                 // Reached: if its frontier is still there from here it cannot be seen, so
                 // it is not worth coming back for.
                 blacklist.extend(target.take());
@@ -208,6 +209,7 @@ pub fn explore(grid: &NavGrid, physics: &PhysicsScene, sensors: &ExploreSensors<
             }
             NavStatus::Aborted => {
                 abandoned += 1;
+                tracing::debug!("t {t:.1} s: gave up on {target:?}");
                 blacklist.extend(target.take());
                 continue;
             }

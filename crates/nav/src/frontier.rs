@@ -41,8 +41,9 @@ pub struct Frontier {
 
 /// The frontiers of `map`, nearest reachable first (unreachable ones last, by size), with
 /// reachability from `robot` over cells that are known free and cheaper than INSCRIBED in
-/// `cm` (the costmap of the same map: same size, origin and resolution).
-pub fn find_frontiers(map: &OccupancyGrid, cm: &Costmap, robot: Point2, p: &FrontierParams) -> Vec<Frontier> {
+/// `cm` (the costmap of the same map: same size, origin and resolution). A frontier's target
+/// is its cheapest cell farther than `blacklist_radius` from every point of `blacklist`.
+pub fn find_frontiers(map: &OccupancyGrid, cm: &Costmap, robot: Point2, blacklist: &[Point2], p: &FrontierParams) -> Vec<Frontier> {
     let (w, h) = (map.width, map.height);
     if cm.width != w || cm.height != h || w == 0 || h == 0 {
         return Vec::new();
@@ -76,7 +77,7 @@ pub fn find_frontiers(map: &OccupancyGrid, cm: &Costmap, robot: Point2, p: &Fron
             n += 1;
             sx += q.x;
             sy += q.y;
-            if dist[i] < best_d {
+            if dist[i] < best_d && blacklist.iter().all(|b| b.dist(q) > p.blacklist_radius) {
                 (best, best_d) = (Some(q), dist[i]);
             }
             for (dc, dr) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
@@ -121,10 +122,9 @@ pub fn frontier_near(map: &OccupancyGrid, p: Point2, radius: f64) -> bool {
     false
 }
 
-/// The nearest reachable frontier whose target is not within `blacklist_radius` of a point
-/// of `blacklist`.
-pub fn nearest_frontier<'a>(frontiers: &'a [Frontier], blacklist: &[Point2], p: &FrontierParams) -> Option<&'a Frontier> {
-    frontiers.iter().find(|f| f.target.is_some_and(|t| f.distance.is_finite() && blacklist.iter().all(|b| b.dist(t) > p.blacklist_radius)))
+/// The nearest frontier with a reachable target.
+pub fn nearest_frontier(frontiers: &[Frontier]) -> Option<&Frontier> {
+    frontiers.iter().find(|f| f.target.is_some() && f.distance.is_finite())
 }
 
 /// Path length (m) from `robot` to every cell over known free cells cheaper than INSCRIBED
@@ -230,9 +230,10 @@ mod tests {
     fn finds_the_open_side_as_the_nearest_reachable_frontier() {
         let map = half_known();
         let cm = Costmap::from_map(&map, &CostmapParams::default());
-        let fs = find_frontiers(&map, &cm, Point2::new(0.5, 1.0), &FrontierParams::default());
+        let p = FrontierParams::default();
+        let fs = find_frontiers(&map, &cm, Point2::new(0.5, 1.0), &[], &p);
         assert_eq!(fs.len(), 2, "{fs:?}");
-        let near = nearest_frontier(&fs, &[], &FrontierParams::default()).expect("a reachable frontier");
+        let near = nearest_frontier(&fs).expect("a reachable frontier");
         // The corridor's frontier: the column of cells at x = 1.95 m, reached along the corridor.
         let t = near.target.unwrap();
         assert!((t.x - 1.975).abs() < 1e-9, "{t:?}");
@@ -242,8 +243,13 @@ mod tests {
         assert!(pocket.distance.is_infinite() && pocket.target.is_none());
         assert!(frontier_near(&map, Point2::new(2.2, 1.0), 0.3));
         assert!(!frontier_near(&map, Point2::new(1.0, 1.0), 0.5));
-        // Blacklisting the target leaves nothing reachable.
-        assert!(nearest_frontier(&fs, &[t], &FrontierParams::default()).is_none());
+        // Blacklisting the target moves it along the frontier, out of the blacklisted disc.
+        let fs = find_frontiers(&map, &cm, Point2::new(0.5, 1.0), &[t], &p);
+        let other = nearest_frontier(&fs).expect("still reachable").target.unwrap();
+        assert!(other.dist(t) > p.blacklist_radius && (other.x - 1.975).abs() < 1e-9, "{other:?}");
+        // Blacklisting the whole frontier leaves nothing reachable.
+        let fs = find_frontiers(&map, &cm, Point2::new(0.5, 1.0), &[Point2::new(1.975, 0.5), Point2::new(1.975, 1.0), Point2::new(1.975, 1.5)], &p);
+        assert!(nearest_frontier(&fs).is_none());
     }
 
     #[test]
@@ -252,8 +258,8 @@ mod tests {
         map.set(20, 20, GRID_UNKNOWN);
         let cm = Costmap::from_map(&map, &CostmapParams::default());
         let p = FrontierParams::default();
-        assert!(find_frontiers(&map, &cm, Point2::new(0.5, 0.5), &p).is_empty());
+        assert!(find_frontiers(&map, &cm, Point2::new(0.5, 0.5), &[], &p).is_empty());
         let p = FrontierParams { min_frontier_size: 0.2, ..p };
-        assert_eq!(find_frontiers(&map, &cm, Point2::new(0.5, 0.5), &p).len(), 1);
+        assert_eq!(find_frontiers(&map, &cm, Point2::new(0.5, 0.5), &[], &p).len(), 1);
     }
 }

@@ -88,7 +88,7 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
     pic.dot(start.position(), 4, [0, 170, 0]);
     pic.save(&png)?;
     let reference = grid.occupancy_grid();
-    let agree = map_agreement(&run.map, &reference);
+    let agree = map_agreement(&run.map, &reference, start.position());
     let (free, occ) = counts(&run.map);
     let report = serde_json::json!({
         "scene": a.scene,
@@ -102,6 +102,7 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
         "free_m2": free as f64 * run.map.resolution * run.map.resolution,
         "occupied_cells": occ,
         "reference_free_coverage": agree.free_coverage,
+        "connected_free_coverage": agree.connected_free_coverage,
         "free_occupied_in_reference": agree.free_occupied_in_reference,
         "wall_s": t0.elapsed().as_secs_f64(),
         "map": yaml,
@@ -111,7 +112,8 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
     }
     eprintln!(
         "xhab: explored for {:.0} s simulated ({:.1} m driven, {} frontiers reached, {} abandoned, ended: {:?}) in {:.2} s; \
-         the map covers {:.1}% of the free space of the scene's map, {:.2}% of its free cells are occupied there; wrote {} and {}",
+         the map covers {:.1}% of the free space of the scene's map ({:.1}% of the part connected to the start), \
+         {:.2}% of its free cells are occupied there; wrote {} and {}",
         run.sim_s,
         run.travel_m,
         run.targets_reached,
@@ -119,6 +121,7 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
         run.end,
         t0.elapsed().as_secs_f64(),
         100.0 * agree.free_coverage,
+        100.0 * agree.connected_free_coverage,
         100.0 * agree.free_occupied_in_reference,
         yaml.display(),
         png.display()
