@@ -55,7 +55,7 @@ pub fn project_depth(depth: &DepthImage, k: &Intrinsics, camera: Pose2, camera_h
                 continue;
             }
             let x = (u as f64 - k.cx) / k.fx * z;
-            if z.hypot(x) > p.max_range {
+            if z * z + x * x > p.max_range * p.max_range {
                 continue;
             }
             // Optical x is to the right of the heading, y down.

@@ -50,6 +50,10 @@ pub struct Mapper {
     band_log_odds: Vec<f32>,
     /// Cells with any depth-camera point.
     band_seen: Vec<bool>,
+    /// Per-cell stamp of the last update that touched it (dedupes cells within one update).
+    mark: Vec<u32>,
+    /// The current update's stamp.
+    stamp: u32,
 }
 
 impl Mapper {
@@ -59,7 +63,7 @@ impl Mapper {
         let width = ((max.x - min.x) / r).ceil().max(1.0) as usize;
         let height = ((max.y - min.y) / r).ceil().max(1.0) as usize;
         let n = width * height;
-        Self { params, origin: min, width, height, log_odds: vec![0.0; n], seen: vec![false; n], band_log_odds: vec![0.0; n], band_seen: vec![false; n] }
+        Self { params, origin: min, width, height, log_odds: vec![0.0; n], seen: vec![false; n], band_log_odds: vec![0.0; n], band_seen: vec![false; n], mark: vec![0; n], stamp: 0 }
     }
 
     fn cell(&self, p: Point2) -> Option<usize> {
@@ -68,45 +72,94 @@ impl Mapper {
         (c >= 0.0 && r >= 0.0 && c < self.width as f64 && r < self.height as f64).then(|| r as usize * self.width + c as usize)
     }
 
+    /// A fresh stamp for one update (all marks cleared when it wraps).
+    fn next_stamp(&mut self) -> u32 {
+        if self.stamp >= u32::MAX - 2 {
+            self.mark.iter_mut().for_each(|m| *m = 0);
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+        self.stamp
+    }
+
+    /// Calls `f` on each cell a ray from `o` at angle `a` crosses within `len` (m), in order,
+    /// stopping where it leaves the map (exact grid traversal, Amanatides and Woo).
+    fn trace(&self, o: Point2, a: f64, len: f64, mut f: impl FnMut(usize)) {
+        let res = self.params.resolution;
+        let (x0, y0) = ((o.x - self.origin.x) / res, (o.y - self.origin.y) / res);
+        let (dx, dy) = (a.cos(), a.sin());
+        let l = len / res;
+        let (mut c, mut r) = (x0.floor() as i64, y0.floor() as i64);
+        let (sc, sr) = (if dx > 0.0 { 1 } else { -1 }, if dy > 0.0 { 1 } else { -1 });
+        let axis = |p0: f64, cell: i64, d: f64| -> (f64, f64) {
+            if d > 0.0 {
+                ((cell as f64 + 1.0 - p0) / d, 1.0 / d)
+            } else if d < 0.0 {
+                ((p0 - cell as f64) / -d, -1.0 / d)
+            } else {
+                (f64::INFINITY, f64::INFINITY)
+            }
+        };
+        let (mut tx, ddx) = axis(x0, c, dx);
+        let (mut ty, ddy) = axis(y0, r, dy);
+        let (w, h) = (self.width as i64, self.height as i64);
+        loop {
+            if c < 0 || r < 0 || c >= w || r >= h {
+                return;
+            }
+            f((r * w + c) as usize);
+            let t = if tx < ty {
+                c += sc;
+                tx += ddx;
+                tx - ddx
+            } else {
+                r += sr;
+                ty += ddy;
+                ty - ddy
+            };
+            if t >= l {
+                return;
+            }
+        }
+    }
+
     /// Integrates a scan taken at `sensor` (world frame). Cells holding a return of this scan
     /// get no miss from it: a beam grazing a wall passes through the wall's cells just before
     /// its own return, and without this rule such beams would wear walls into dashed lines.
     pub fn integrate(&mut self, scan: &LaserScan, sensor: Pose2) {
         let (hit, miss, clamp) = (logit(self.params.prob_hit) as f32, logit(self.params.prob_miss) as f32, self.params.clamp as f32);
-        let res = self.params.resolution;
         let o = sensor.position();
+        let hits_stamp = self.next_stamp();
         let mut beams = Vec::with_capacity(scan.ranges.len());
-        let mut hits = std::collections::HashSet::new();
+        let mut hits = Vec::new();
         for (i, &r) in scan.ranges.iter().enumerate() {
             let a = sensor.yaw + scan.angle(i);
             let valid = r.is_finite() && (r as f64) >= scan.range_min && (r as f64) <= scan.range_max;
             let len = if valid { r as f64 } else if self.params.max_clear_range > 0.0 { self.params.max_clear_range.min(scan.range_max) } else { continue };
-            let end_cell = if valid { self.cell(Point2::new(o.x + len * a.cos(), o.y + len * a.sin())) } else { None };
-            if let Some(c) = end_cell {
-                hits.insert(c);
-            }
-            beams.push((a, len, end_cell));
-        }
-        for &(a, len, end_cell) in &beams {
-            // Each cell the beam crosses once, cells with a return excluded.
-            let n = (len / (res * 0.5)).ceil() as usize;
-            let mut last = None;
-            for k in 0..n {
-                let d = k as f64 * res * 0.5;
-                let Some(c) = self.cell(Point2::new(o.x + d * a.cos(), o.y + d * a.sin())) else { break };
-                if Some(c) == last || hits.contains(&c) {
-                    continue;
+            if valid {
+                if let Some(c) = self.cell(Point2::new(o.x + len * a.cos(), o.y + len * a.sin())) {
+                    if self.mark[c] != hits_stamp {
+                        self.mark[c] = hits_stamp;
+                        hits.push(c);
+                    }
                 }
-                last = Some(c);
-                self.log_odds[c] = (self.log_odds[c] + miss).max(-clamp);
-                self.seen[c] = true;
             }
-            if let Some(c) = end_cell {
-                self.seen[c] = true;
+            beams.push((a, len));
+        }
+        // Each beam: one miss for each cell it crosses, cells with a return excluded.
+        let mut crossed = Vec::new();
+        for &(a, len) in &beams {
+            self.trace(o, a, len, |c| crossed.push(c));
+            for c in crossed.drain(..) {
+                if self.mark[c] != hits_stamp {
+                    self.log_odds[c] = (self.log_odds[c] + miss).max(-clamp);
+                    self.seen[c] = true;
+                }
             }
         }
         for c in hits {
             self.log_odds[c] = (self.log_odds[c] + hit).min(clamp);
+            self.seen[c] = true;
         }
     }
 
@@ -116,17 +169,27 @@ impl Mapper {
     /// say that the table is gone: obstacles in the body band stand.
     pub fn integrate_points(&mut self, obstacles: &[Point2], floor: &[Point2]) {
         let (hit, miss, clamp) = (logit(self.params.prob_hit) as f32, logit(self.params.prob_miss) as f32, self.params.clamp as f32);
-        let hits: std::collections::HashSet<usize> = obstacles.iter().filter_map(|&p| self.cell(p)).collect();
-        let frees: std::collections::HashSet<usize> = floor.iter().filter_map(|&p| self.cell(p)).filter(|c| !hits.contains(c)).collect();
-        for c in hits {
-            self.band_log_odds[c] = (self.band_log_odds[c] + hit).min(clamp);
-            self.band_seen[c] = true;
-        }
-        for c in frees {
-            if self.band_log_odds[c] <= 0.0 {
-                self.band_log_odds[c] = (self.band_log_odds[c] + miss).max(-clamp);
+        let hits_stamp = self.next_stamp();
+        for &p in obstacles {
+            if let Some(c) = self.cell(p) {
+                if self.mark[c] != hits_stamp {
+                    self.mark[c] = hits_stamp;
+                    self.band_log_odds[c] = (self.band_log_odds[c] + hit).min(clamp);
+                    self.band_seen[c] = true;
+                }
             }
-            self.band_seen[c] = true;
+        }
+        let free_stamp = self.next_stamp();
+        for &p in floor {
+            if let Some(c) = self.cell(p) {
+                if self.mark[c] != hits_stamp && self.mark[c] != free_stamp {
+                    self.mark[c] = free_stamp;
+                    if self.band_log_odds[c] <= 0.0 {
+                        self.band_log_odds[c] = (self.band_log_odds[c] + miss).max(-clamp);
+                    }
+                    self.band_seen[c] = true;
+                }
+            }
         }
     }
 
