@@ -424,13 +424,13 @@ pub struct PhysicsOpts {
 /// Renderers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum RendererArg {
-    /// The fastest available here (today: raycast).
+    /// wgpu on a real GPU, else the CPU rasteriser (a log line says which and why).
     Auto,
     /// CPU ray casting (parry3d BVH), the reference.
     Raycast,
-    /// CPU rasteriser (not built yet).
+    /// CPU rasteriser (tiled, frustum-culled, multi-threaded).
     Raster,
-    /// wgpu (not built yet).
+    /// wgpu (Vulkan; headless; Mesa's software driver without a GPU).
     Wgpu,
 }
 
