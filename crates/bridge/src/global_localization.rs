@@ -62,12 +62,17 @@ pub fn run_trials(world: &World, episodes: &[Episode], trials: usize, physics: &
 
 fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, map: Option<&OccupancyGrid>, cfg: &GlobalLocConfig, seed: u64) -> Option<GlobalLocTrial> {
     let grid = world.grid_at(ep.start_position.z).ok()?;
-    let map = map.cloned().unwrap_or_else(|| grid.occupancy_grid());
+    // A given map serves both; else the robot plans on the body-band map and AMCL localises
+    // on the scan-plane map.
+    let (map, amcl_map) = match map {
+        Some(m) => (m.clone(), m.clone()),
+        None => (grid.occupancy_grid(), crate::nav_agent::localization_map(setup, &grid, &world.scene).unwrap_or_else(|| grid.occupancy_grid())),
+    };
     let task = TaskConfig { max_episode_steps: u32::MAX, ..Default::default() };
     let mut env = PhysicsEnv::new(grid.clone(), &physics.scene, ep, task, &physics.profile, physics.config.clone(), seed).ok()?;
     let (rs, lp) = setup.lidar.as_ref()?;
     let mut lidar = Lidar::new(lp.clone(), seed);
-    let mut amcl = Amcl::new(&map, setup.params.amcl.clone(), seed);
+    let mut amcl = Amcl::new(&amcl_map, setup.params.amcl.clone(), seed);
     amcl.global_init();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x9e37_79b9_7f4a_7c15);
     let island = grid.island_at(ep.start_position.xy());
@@ -77,7 +82,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
     let new_goal = |rng: &mut rand_chacha::ChaCha8Rng, from: xhab_types::Point2| {
         (0..200).filter_map(|_| grid.sample_navigable_point(&cells, rng).map(|p| p.xy())).find(|p| grid.island_at(*p) == island && p.dist(from) > 1.0)
     };
-    let mut brain = NavBrain::new(&drive, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
+    let mut brain = NavBrain::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let (mut travel, mut last) = (0.0, env.pose().position());
     let mut t0 = 0.0;
@@ -111,7 +116,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
                 if goals > 50 {
                     break;
                 }
-                brain = NavBrain::new(&drive, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
+                brain = NavBrain::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
                 t0 = t;
             }
         }

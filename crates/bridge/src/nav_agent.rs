@@ -42,6 +42,14 @@ pub struct NavSetup {
     pub scan_period: f64,
 }
 
+impl NavSetup {
+    /// Whether AMCL localises on the scan-plane map ([`localization_map`]) rather than on the
+    /// navigation map.
+    pub fn scan_plane_localization(&self) -> bool {
+        self.localization == Localization::Amcl && self.map.is_none() && self.lidar.is_some()
+    }
+}
+
 /// Initial position spread of AMCL at an episode's start (m, ROS's initialpose default).
 pub const INITIAL_STD_XY: f64 = 0.5;
 /// Initial heading spread of AMCL at an episode's start (rad, pi/12 as in ROS).
@@ -109,14 +117,15 @@ pub struct NavInputs<'a> {
 }
 
 impl NavBrain {
-    /// A navigator on `map` heading for `goal`; AMCL (when asked) starts at `start` with ROS's
-    /// initial spread (0.5 m, pi/12 rad), or the spread given.
-    pub fn new(setup: &NavSetup, map: &OccupancyGrid, goal: xhab_types::Point2, start: Pose2, spread: Option<(f64, f64)>, seed: u64) -> NavBrain {
+    /// A navigator on `map` heading for `goal`; AMCL (when asked) localises on `amcl_map`
+    /// (the map of what the laser sees; `map` where there is one map) and starts at `start`
+    /// with ROS's initial spread (0.5 m, pi/12 rad), or the spread given.
+    pub fn new(setup: &NavSetup, map: &OccupancyGrid, amcl_map: &OccupancyGrid, goal: xhab_types::Point2, start: Pose2, spread: Option<(f64, f64)>, seed: u64) -> NavBrain {
         let mut nav = Navigator::new(setup.params.clone());
         nav.set_map(map);
         nav.set_goal(goal, 0.0);
         let amcl = (setup.localization == Localization::Amcl).then(|| {
-            let mut a = Amcl::new(map, setup.params.amcl.clone(), seed);
+            let mut a = Amcl::new(amcl_map, setup.params.amcl.clone(), seed);
             let (sxy, syaw) = spread.unwrap_or((INITIAL_STD_XY, INITIAL_STD_YAW));
             a.init(start, sxy, syaw);
             a
@@ -139,7 +148,7 @@ impl NavBrain {
             self.scans.taken += 1;
             if let Some(a) = self.amcl.as_mut() {
                 if a.update(inp.odom, scan, Pose2::default()) {
-                    self.map_to_odom = a.map_to_odom(inp.odom);
+                    self.map_to_odom = a.map_to_odom();
                     pose = self.map_to_odom.compose(inp.odom);
                     if let Some(truth) = inp.truth {
                         self.err_sum[0] += pose.position().dist(truth.position());
@@ -180,22 +189,39 @@ impl NavBrain {
     }
 }
 
+/// Half the thickness of the band around the scan plane that the localisation map is cut
+/// from (m): geometry within it shows in the map as the laser would see it.
+pub const SCAN_PLANE_HALF_BAND: f64 = 0.025;
+
+/// The map AMCL localises on when it is not the navigation map: without a user's map (which
+/// serves both, as ROS's one map), the scene cut at the lidar's height
+/// ([`NavGrid::slice_map`]): what a SLAM run with that lidar would map. A table is then its
+/// legs, as the lidar sees it, not the block the costmap must keep the body away from.
+pub fn localization_map(setup: &NavSetup, grid: &NavGrid, scene: &xhab_sim::scene::Scene) -> Option<OccupancyGrid> {
+    let (_, lp) = setup.lidar.as_ref()?;
+    setup.scan_plane_localization().then(|| grid.slice_map(scene, lp.mount_height, SCAN_PLANE_HALF_BAND))
+}
+
 /// Episode time of `sim_s`, rounded to the nanosecond (what a ROS stamp carries).
 pub fn episode_time(sim_s: f64) -> f64 {
     (sim_s * 1e9).round() / 1e9
 }
 
 /// Runs one episode with the navigator on `env` (already reset), returning its outcome.
-pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
+pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::scene::Scene, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
     // The navigator gets its inputs through the same message conversions as the ROS nav node
     // (f32 map resolution and scan angles, yaw through a quaternion), so that a run over ROS
     // is identical to this one.
     use crate::ros::convert as cv;
     let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
     let map = cv::grid_from_msg(&cv::occupancy_grid(0.0, &map)).expect("a map converts to its own message");
+    let amcl_map = match localization_map(setup, grid, scene) {
+        Some(m) => cv::grid_from_msg(&cv::occupancy_grid(0.0, &m)).expect("a map converts to its own message"),
+        None => map.clone(),
+    };
     let via = |p: Pose2| cv::pose2(&cv::pose(p, 0.0));
     let spread = cv::pose_with_covariance(0, 0.0, Pose2::default(), INITIAL_STD_XY, INITIAL_STD_YAW).pose.covariance;
-    let mut brain = NavBrain::new(setup, &map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
+    let mut brain = NavBrain::new(setup, &map, &amcl_map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));

@@ -135,7 +135,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     };
     if let (MadeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
         let goal = ep.goals[0].position.xy();
-        return crate::nav_agent::run_nav(e, &grid, &ep.episode_id, goal, setup, cfg, t0);
+        return crate::nav_agent::run_nav(e, &grid, &world.scene, &ep.episode_id, goal, setup, cfg, t0);
     }
     let Some(mut agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));

@@ -70,12 +70,19 @@ pub struct LocalizeArgs {
     /// Travel budget (m).
     #[arg(long, default_value_t = 10.0)]
     pub max_travel: f64,
-    /// The map AMCL localises on (map_server YAML) [default: the scene's own map].
+    /// The map AMCL localises on (map_server YAML) [default: the scene cut at the lidar's
+    /// height, as `xhab map --laser-height` makes it].
     #[arg(long)]
     pub map: Option<PathBuf>,
     /// Navigation and AMCL parameters (move_base/amcl-style YAML with ROS names).
     #[arg(long)]
     pub nav_params: Option<PathBuf>,
+    /// Particles spread over the free space at the start (sets amcl max_particles for the
+    /// trials; KLD sampling shrinks the set as the filter converges). A uniform spread needs
+    /// far more than tracking does: with ROS's 5,000 most trials start with no particle near
+    /// the truth.
+    #[arg(long, default_value_t = 50_000)]
+    pub particles: usize,
     /// JSON results file.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -165,6 +172,10 @@ pub struct RosNavArgs {
     /// The static map (map_server YAML) [default: the map received on `map`].
     #[arg(long)]
     pub map: Option<PathBuf>,
+    /// The map AMCL localises on, e.g. `xhab map --laser-height` [default: the one received on
+    /// `amcl/map`, else the navigation map].
+    #[arg(long)]
+    pub amcl_map: Option<PathBuf>,
     /// Localisation.
     #[arg(long, value_enum, default_value_t = LocalizationArg::Amcl)]
     pub localization: LocalizationArg,
@@ -249,6 +260,11 @@ pub struct MapArgs {
     /// Floor: `auto` (the lowest) or a height in metres (Habitat's y, i.e. up).
     #[arg(long, default_value = "auto")]
     pub floor: String,
+    /// Map what a planar laser at this height above the floor sees (m; e.g. 0.2): geometry
+    /// within 2.5 cm of its scan plane is occupied (a table is its legs), the map AMCL should
+    /// localise that laser on. Without it: everything in the agent's body band.
+    #[arg(long, conflicts_with = "explore")]
+    pub laser_height: Option<f64>,
     /// Build the map by exploring: the robot, under physics with its lidar, goes to the
     /// nearest reachable frontier until none is left, mapping as it goes.
     #[arg(long, help_heading = "Exploration")]

@@ -6,3 +6,4 @@ mod sensors;
 mod raster;
 mod ros_interop;
 mod gpu;
+mod localization;

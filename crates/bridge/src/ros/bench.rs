@@ -44,9 +44,9 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let (stats_tx, mut stats_rx) = tokio::sync::mpsc::unbounded_channel();
     let agent = match (cfg.agent, &cfg.nav) {
         (AgentKind::Nav, Some(setup)) => {
-            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.lidar.is_some(), seed: cfg.seed, timeout: opts.timeout };
+            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.lidar.is_some(), expect_amcl_map: setup.scan_plane_localization(), seed: cfg.seed, timeout: opts.timeout };
             let uri = uri.to_string();
-            tokio::spawn(async move { super::nav_node::run(&uri, "xhab_nav", o, None, stop_rx, Some(stats_tx)).await })
+            tokio::spawn(async move { super::nav_node::run(&uri, "xhab_nav", o, None, None, stop_rx, Some(stats_tx)).await })
         }
         (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
         (kind, _) => {
@@ -59,6 +59,9 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     match (cfg.agent, &cfg.nav) {
         (AgentKind::Nav, Some(nav)) => {
             let mut topics = vec!["move_base_simple/goal", "initialpose", "map", "ground_truth/pose"];
+            if nav.scan_plane_localization() {
+                topics.push(super::sim_node::AMCL_MAP_TOPIC);
+            }
             if nav.lidar.is_some() {
                 topics.push("scan");
             }
@@ -75,7 +78,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         let o = match make_env(&world, ep, i, cfg) {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((made, grid)) => {
-                let r = episode(&mut sim, made, &grid, ep, i, cfg, &mut clock_ns).await;
+                let r = episode(&mut sim, made, &grid, &world.scene, ep, i, cfg, &mut clock_ns).await;
                 match r {
                     Ok(mut run) => {
                         run.wall_s = t0.elapsed().as_secs_f64();
@@ -113,7 +116,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
 }
 
 /// Runs one episode through the simulator node; the agent node answers each step.
-async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navgrid::NavGrid>, ep: &xhab_sim::episode::Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
+async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navgrid::NavGrid>, world_scene: &xhab_sim::scene::Scene, ep: &xhab_sim::episode::Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
     let start_z = ep.start_position.z;
     let goal = ep.goals[0].position.xy();
     let goal_pose = Pose2::new(goal.x, goal.y, 0.0);
@@ -127,6 +130,9 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             let setup: &NavSetup = setup;
             let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
             sim.publish_map(stamp(0.0), &map).await?;
+            if let Some(m) = crate::nav_agent::localization_map(setup, grid, &world_scene) {
+                sim.publish_amcl_map(stamp(0.0), &m).await?;
+            }
             sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
             sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW).await?;
             let period = setup.params.dwa.controller_period.max(1e-3);

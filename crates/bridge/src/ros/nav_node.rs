@@ -8,12 +8,13 @@
 //! reached: stop) or -1 (gave up); the step's scan (due every `LaserScan.scan_time` from the
 //! episode's start) and ground truth are awaited by sequence number, so arrival order across
 //! topics never changes the result. An odometry message with `header.seq == 0` begins an episode
-//! and pairs with the next map, goal and initial pose received.
+//! and pairs with the next map, goal and initial pose received (and localisation map, when
+//! one is expected on `amcl/map`; without one AMCL localises on `map`).
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs, tf2_msgs};
 use super::node::{self, Inbox, RosError};
-use super::sim_node::{PROBE_SEQ, READY_ACTION};
+use super::sim_node::{AMCL_MAP_TOPIC, PROBE_SEQ, READY_ACTION};
 use crate::nav_agent::{NavBrain, NavInputs, NavReply, NavSetup};
 use roslibrust::ros1::Publisher;
 use std::time::Duration;
@@ -29,6 +30,8 @@ pub struct NavNodeOptions {
     pub lockstep: bool,
     /// Whether scans come (lock-step waits for each due scan).
     pub expect_scans: bool,
+    /// Whether each lock-step episode brings a localisation map on `amcl/map`.
+    pub expect_amcl_map: bool,
     /// Seed of AMCL.
     pub seed: u64,
     /// How long to wait for a peer (s).
@@ -85,9 +88,10 @@ impl Outputs {
 }
 
 /// Runs the node `name` until `shutdown` fires. `map`: a static map (`--map`), else the one
-/// received on `map`. In lock-step runs, each episode's mean localisation error is sent on
+/// received on `map`; `amcl_map`: a static localisation map (`--amcl-map`), else the one
+/// received on `amcl/map`, else the map. In lock-step runs, each episode's mean localisation error is sent on
 /// `stats` when the next episode begins or the node stops.
-pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<OccupancyGrid>, mut shutdown: watch::Receiver<bool>, stats: Option<mpsc::UnboundedSender<Option<[f64; 2]>>>) -> Result<(), RosError> {
+pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>, mut shutdown: watch::Receiver<bool>, stats: Option<mpsc::UnboundedSender<Option<[f64; 2]>>>) -> Result<(), RosError> {
     let nh = node::node(uri, name).await?;
     let out = Outputs {
         cmd_vel: node::advertise(&nh, "cmd_vel", false).await?,
@@ -100,11 +104,14 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
     let mut odoms = node::subscribe::<nav_msgs::Odometry>(&nh, "odom").await?;
     let mut scans = Inbox::new(node::subscribe::<sensor_msgs::LaserScan>(&nh, "scan").await?);
     let mut maps = Inbox::new(node::subscribe::<nav_msgs::OccupancyGrid>(&nh, "map").await?);
+    let mut amcl_maps = Inbox::new(node::subscribe::<nav_msgs::OccupancyGrid>(&nh, AMCL_MAP_TOPIC).await?);
     let mut goals = Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?);
     let mut inits = Inbox::new(node::subscribe::<gm::PoseWithCovarianceStamped>(&nh, "initialpose").await?);
     let want_truth = opts.lockstep && (opts.setup.localization == crate::nav_agent::Localization::GroundTruth || stats.is_some());
     let mut truths = if want_truth { Some(Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?)) } else { None };
     let mut current_map = map.clone();
+    let mut current_amcl_map = amcl_map.clone();
+    let expect_amcl_map = opts.expect_amcl_map && amcl_map.is_none();
     let mut brain: Option<NavBrain> = None;
     let mut episode_start_ns = 0i64;
     let mut last_tick: Option<f64> = None;
@@ -124,11 +131,12 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
             goals.absorb();
             inits.absorb();
             maps.absorb();
+            amcl_maps.absorb();
             scans.absorb();
             if let Some(t) = truths.as_mut() {
                 t.absorb();
             }
-            let ready = goals.probed && inits.probed && (map.is_some() || maps.probed) && (!opts.expect_scans || scans.probed) && truths.as_ref().is_none_or(|t| t.probed);
+            let ready = goals.probed && inits.probed && (map.is_some() || maps.probed) && (!expect_amcl_map || amcl_maps.probed) && (!opts.expect_scans || scans.probed) && truths.as_ref().is_none_or(|t| t.probed);
             if ready && opts.lockstep {
                 let e = |x: String| RosError::Node(format!("publishing the handshake answer: {x}"));
                 out.action.publish(&std_msgs::Int16 { data: READY_ACTION }).await.map_err(|x| e(x.to_string()))?;
@@ -147,11 +155,16 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
                     let m = maps.next(opts.timeout, "map for the new episode").await?;
                     current_map = Some(cv::grid_from_msg(&m).map_err(RosError::Protocol)?);
                 }
+                if expect_amcl_map {
+                    let m = amcl_maps.next(opts.timeout, "localisation map for the new episode").await?;
+                    current_amcl_map = Some(cv::grid_from_msg(&m).map_err(RosError::Protocol)?);
+                }
                 let g = goals.next(opts.timeout, "goal for the new episode").await?;
                 let ip = inits.next(opts.timeout, "initial pose for the new episode").await?;
                 let spread = (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt());
                 let m = current_map.as_ref().ok_or_else(|| RosError::Protocol("no map".into()))?;
-                brain = Some(NavBrain::new(&opts.setup, m, cv::pose2(&g.pose).position(), cv::pose2(&ip.pose.pose), Some(spread), opts.seed));
+                let am = current_amcl_map.as_ref().unwrap_or(m);
+                brain = Some(NavBrain::new(&opts.setup, m, am, cv::pose2(&g.pose).position(), cv::pose2(&ip.pose.pose), Some(spread), opts.seed));
                 episode_start_ns = stamp_ns;
             }
             let Some(b) = brain.as_mut() else {
@@ -187,6 +200,13 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
                 Err(e) => tracing::warn!("map: {e}"),
             }
         }
+        if let Some(m) = amcl_maps.latest() {
+            match cv::grid_from_msg(&m) {
+                Ok(g) if amcl_map.is_none() => current_amcl_map = Some(g),
+                Ok(_) => {}
+                Err(e) => tracing::warn!("{AMCL_MAP_TOPIC}: {e}"),
+            }
+        }
         let init = inits.latest().map(|ip| (cv::pose2(&ip.pose.pose), (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt())));
         let goal = goals.latest().map(|g| cv::pose2(&g.pose).position());
         let t = stamp_ns as f64 / 1e9;
@@ -196,7 +216,7 @@ pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<Occupa
                 (None, Some(b)) => (b.map_to_odom().compose(odom), Some((0.1, 0.1))),
                 (None, None) => (odom, None),
             };
-            brain = Some(NavBrain::new(&opts.setup, m, g, start, spread, opts.seed));
+            brain = Some(NavBrain::new(&opts.setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed));
             tracing::info!("new goal ({:.2}, {:.2})", g.x, g.y);
         }
         let Some(b) = brain.as_mut() else { continue };

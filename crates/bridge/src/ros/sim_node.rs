@@ -13,6 +13,11 @@ use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
 /// The camera's optical frame (z forward, x right, y down).
 pub const CAMERA_OPTICAL_FRAME: &str = "camera_depth_optical_frame";
 
+/// The topic of the map AMCL localises on when it differs from `map` (the scene cut at the
+/// laser's height, while `map` holds the body-band map for the costmap), as amcl's `map`
+/// remapped into its namespace.
+pub const AMCL_MAP_TOPIC: &str = "amcl/map";
+
 /// `header.seq` of a handshake probe (never a real step).
 pub const PROBE_SEQ: u32 = u32::MAX;
 /// `action` value an agent answers a probe with (never a real action).
@@ -47,6 +52,7 @@ pub struct SimNode {
     truth: Publisher<gm::PoseStamped>,
     scan: Publisher<sensor_msgs::LaserScan>,
     map: Publisher<nav_msgs::OccupancyGrid>,
+    amcl_map: Publisher<nav_msgs::OccupancyGrid>,
     goal: Publisher<gm::PoseStamped>,
     initialpose: Publisher<gm::PoseWithCovarianceStamped>,
     depth: Publisher<sensor_msgs::Image>,
@@ -90,6 +96,7 @@ impl SimNode {
             truth: node::advertise(&nh, "ground_truth/pose", false).await?,
             scan: node::advertise(&nh, "scan", false).await?,
             map: node::advertise(&nh, "map", true).await?,
+            amcl_map: node::advertise(&nh, AMCL_MAP_TOPIC, true).await?,
             goal: node::advertise(&nh, "move_base_simple/goal", false).await?,
             initialpose: node::advertise(&nh, "initialpose", false).await?,
             depth: node::advertise(&nh, "camera/depth/image_raw", false).await?,
@@ -115,6 +122,11 @@ impl SimNode {
             ],
         };
         self.tf_static.publish(&m).await.map_err(|e| RosError::Node(format!("tf_static: {e}")))
+    }
+
+    /// Publishes the localisation map (latched) on [`AMCL_MAP_TOPIC`].
+    pub async fn publish_amcl_map(&self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
+        self.amcl_map.publish(&cv::occupancy_grid(stamp, map)).await.map_err(|e| RosError::Node(format!("{AMCL_MAP_TOPIC}: {e}")))
     }
 
     /// Publishes the map (latched).
@@ -226,6 +238,7 @@ impl SimNode {
             "odom" => self.odom.publish(&nav_msgs::Odometry { header: h, ..Default::default() }).await,
             "scan" => self.scan.publish(&sensor_msgs::LaserScan { header: h, ..Default::default() }).await,
             "map" => self.map.publish(&nav_msgs::OccupancyGrid { header: h, ..Default::default() }).await,
+            AMCL_MAP_TOPIC => self.amcl_map.publish(&nav_msgs::OccupancyGrid { header: h, ..Default::default() }).await,
             other => return Err(RosError::Protocol(format!("no probe for topic {other}"))),
         };
         r.map_err(|e| perr(topic, e))

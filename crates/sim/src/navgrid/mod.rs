@@ -8,6 +8,7 @@
 
 mod clearance;
 mod floors;
+mod slice;
 pub(crate) mod raster;
 
 pub use floors::{detect_floors, Floor};

@@ -28,6 +28,10 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
         None => NavParams::default(),
     };
     params.global_costmap.robot_radius = profile.radius;
+    if a.particles == 0 {
+        anyhow::bail!("--particles must be at least 1");
+    }
+    params.amcl.max_particles = a.particles;
     let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
     let setup = NavSetup { params, map: None, localization: Localization::Amcl, lidar: Some((Arc::new(rs), LidarParams::default())), scan_period: 0.1 };
     let map = match &a.map {
@@ -45,6 +49,8 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
         "scene": a.scene,
         "trials": trials.len(),
         "tolerance_m": a.tolerance,
+        "particles": a.particles,
+        "amcl": setup.params.amcl,
         "max_travel_m": a.max_travel,
         "converged_fraction": conv as f64 / n,
         "mean_travel_at_convergence_m": mean_travel,

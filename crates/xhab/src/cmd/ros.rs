@@ -94,13 +94,17 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
                 None => None,
             };
+            let amcl_map = match &a.amcl_map {
+                Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
+                None => None,
+            };
             let localization = match a.localization {
                 LocalizationArg::GroundTruth => Localization::GroundTruth,
                 LocalizationArg::Odom => Localization::Odom,
                 LocalizationArg::Amcl => Localization::Amcl,
             };
             let setup = NavSetup { params, map: None, localization, lidar: None, scan_period: 0.1 };
-            let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, expect_scans: true, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
+            let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, expect_scans: true, expect_amcl_map: false, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
             let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
             eprintln!("xhab: ROS master {}", master.uri);
             let name = a.ros.name.clone().unwrap_or_else(|| "xhab_nav".into());
@@ -108,7 +112,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             rt.block_on(async {
                 let (_tx, rx) = tokio::sync::watch::channel(false);
                 tokio::select! {
-                    r = xhab_bridge::ros::nav_node::run(&master.uri, &name, o, map, rx, None) => r,
+                    r = xhab_bridge::ros::nav_node::run(&master.uri, &name, o, map, amcl_map, rx, None) => r,
                     _ = tokio::signal::ctrl_c() => Ok(()),
                 }
             })?;

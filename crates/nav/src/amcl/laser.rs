@@ -1,0 +1,318 @@
+//! AMCL's laser models (ROS `laser_model_type`): how likely a scan is from a particle's pose.
+//!
+//! - `likelihood_field`: each beam's end point is scored by its distance to the nearest
+//!   occupied cell (a Gaussian of `laser_sigma_hit`, plus `laser_z_rand`); beams combine by
+//!   ROS's ad-hoc `1 + sum(pz^3)`.
+//! - `likelihood_field_prob`: the same beam scores multiplied (a true likelihood), with ROS's
+//!   optional beam skipping: once the filter has converged, beams that most particles cannot
+//!   explain (an obstacle missing from the map) are left out.
+//! - `beam`: each beam's range is compared with the range ray-cast in the map from the
+//!   particle (hit, short, max and random parts), combined as `1 + sum(pz^3)`.
+//!
+//! Maps have origin yaw 0, so cells come from plain arithmetic. Beams without a return (NaN)
+//! are skipped by the likelihood-field models and read as `range_max` by the beam model.
+
+use super::AmclParams;
+use crate::costmap::edt;
+use serde::{Deserialize, Serialize};
+use xhab_types::{LaserScan, OccupancyGrid, Pose2, GRID_FREE, GRID_OCCUPIED};
+
+/// Which laser model (ROS `laser_model_type`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum LaserModelType {
+    /// Likelihood field, beams combined as `1 + sum(pz^3)` (ROS's default).
+    #[serde(rename = "likelihood_field")]
+    LikelihoodField,
+    /// Likelihood field, beams multiplied, optional beam skipping (xhab's default).
+    #[default]
+    #[serde(rename = "likelihood_field_prob")]
+    LikelihoodFieldProb,
+    /// Beam model: measured against ray-cast ranges.
+    #[serde(rename = "beam")]
+    Beam,
+}
+
+/// One beam used in an update: range (m), and its end point relative to the laser (m).
+#[derive(Debug, Clone, Copy)]
+struct Beam {
+    range: f64,
+    bearing: f64,
+    x: f64,
+    y: f64,
+}
+
+/// The map as the laser models read it.
+#[derive(Debug, Clone)]
+pub(crate) struct LaserModel {
+    /// Per cell: `exp(-d^2 / 2 sigma_hit^2)`, d the distance to the nearest occupied cell
+    /// capped at `laser_likelihood_max_dist` (m).
+    field: Vec<f32>,
+    /// The field's value at the cap, used off the map.
+    far: f32,
+    /// `ln(z_hit * field + z_rand / range_max)` per cell and off the map, for the product
+    /// model, with the `range_max` it was made for (scans rarely change it).
+    log_pz: Option<(f64, Vec<f32>, f32)>,
+    /// Per cell: whether a ray-cast beam stops there (occupied or unknown, as ROS's map_calc_range).
+    stops: Vec<bool>,
+    origin: (f64, f64),
+    res: f64,
+    size: (i64, i64),
+}
+
+impl LaserModel {
+    /// Precomputes the likelihood field and the ray-cast mask of `map`.
+    pub(crate) fn new(map: &OccupancyGrid, p: &AmclParams) -> Self {
+        let occ: Vec<bool> = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
+        let d = edt(&occ, map.width, map.height);
+        let s2 = 2.0 * p.laser_sigma_hit * p.laser_sigma_hit;
+        let max = p.laser_likelihood_max_dist;
+        let field = d.iter().map(|&c| (-((c * map.resolution).min(max)).powi(2) / s2).exp() as f32).collect();
+        let stops = map.data.iter().map(|&v| v != GRID_FREE).collect();
+        LaserModel {
+            field,
+            far: (-(max * max) / s2).exp() as f32,
+            log_pz: None,
+            stops,
+            origin: (map.origin.x, map.origin.y),
+            res: map.resolution,
+            size: (map.width as i64, map.height as i64),
+        }
+    }
+
+    fn cell(&self, x: f64, y: f64) -> Option<usize> {
+        let (c, r) = (((x - self.origin.0) / self.res).floor() as i64, ((y - self.origin.1) / self.res).floor() as i64);
+        (c >= 0 && r >= 0 && c < self.size.0 && r < self.size.1).then(|| (r * self.size.0 + c) as usize)
+    }
+
+    /// The likelihood field at world point (x, y) (m).
+    fn field_at(&self, x: f64, y: f64) -> f64 {
+        self.cell(x, y).map_or(self.far, |i| self.field[i]) as f64
+    }
+
+    /// Multiplies each particle's weight by the likelihood of `scan` taken by a laser at
+    /// `laser` in the base frame; returns the sum of the new weights (before normalising,
+    /// as ROS's recovery averages use it). `converged`: the filter's particles agree (for
+    /// beam skipping).
+    pub(crate) fn weigh(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
+        let n = scan.ranges.len();
+        let max_beams = p.laser_max_beams.max(2);
+        // The beam strides of ROS's models.
+        let step = match p.laser_model_type {
+            LaserModelType::LikelihoodFieldProb => n.div_ceil(max_beams),
+            _ => n.saturating_sub(1) / (max_beams - 1),
+        }
+        .max(1);
+        let beam_model = p.laser_model_type == LaserModelType::Beam;
+        let beams: Vec<Beam> = (0..n)
+            .step_by(step)
+            .filter_map(|i| {
+                let r = scan.ranges[i] as f64;
+                let valid = r.is_finite() && r >= scan.range_min && r < scan.range_max;
+                let r = match (valid, beam_model) {
+                    (true, _) => r,
+                    // As ROS's node: readings outside the limits count as max-range readings.
+                    (false, true) => scan.range_max,
+                    (false, false) => return None,
+                };
+                let b = scan.angle(i);
+                Some(Beam { range: r, bearing: b, x: r * b.cos(), y: r * b.sin() })
+            })
+            .collect();
+        match p.laser_model_type {
+            LaserModelType::LikelihoodField => self.weigh_cubed(p, scan, laser, &beams, particles),
+            LaserModelType::LikelihoodFieldProb => self.weigh_prob(p, scan, laser, &beams, particles, converged),
+            LaserModelType::Beam => self.weigh_beam(p, scan, laser, &beams, particles),
+        }
+    }
+
+    /// Likelihood field, `1 + sum(pz^3)`.
+    fn weigh_cubed(&self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], particles: &mut [(Pose2, f64)]) -> f64 {
+        let z_rand = p.laser_z_rand / scan.range_max.max(1e-6);
+        let mut total = 0.0;
+        for (pose, w) in particles.iter_mut() {
+            let lp = pose.compose(laser);
+            let (s, c) = lp.yaw.sin_cos();
+            let mut sum = 0.0;
+            for b in beams {
+                let pz = p.laser_z_hit * self.field_at(lp.x + c * b.x - s * b.y, lp.y + s * b.x + c * b.y) + z_rand;
+                sum += pz * pz * pz;
+            }
+            *w *= 1.0 + sum;
+            total += *w;
+        }
+        total
+    }
+
+    /// Likelihood field, product of the beams' `pz`, with beam skipping once converged.
+    fn weigh_prob(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
+        let z_rand = p.laser_z_rand / scan.range_max.max(1e-6);
+        if self.log_pz.as_ref().is_none_or(|l| l.0 != scan.range_max) {
+            let f = |v: f32| (p.laser_z_hit * v as f64 + z_rand).ln() as f32;
+            self.log_pz = Some((scan.range_max, self.field.iter().map(|&v| f(v)).collect(), f(self.far)));
+        }
+        let Some((_, log_pz, log_far)) = self.log_pz.as_ref() else { return 0.0 };
+        let skip = p.do_beamskip && converged;
+        // A beam end within beam_skip_distance of an obstacle "agrees with the map".
+        let s2 = 2.0 * p.laser_sigma_hit * p.laser_sigma_hit;
+        let agree_above = (-(p.beam_skip_distance * p.beam_skip_distance) / s2).exp();
+        let nb = beams.len();
+        let mut log_all = if skip { vec![0f64; particles.len() * nb] } else { Vec::new() };
+        let mut agree = vec![0usize; nb];
+        let mut logp = vec![0f64; particles.len()];
+        for (k, (pose, _)) in particles.iter().enumerate() {
+            let lp = pose.compose(laser);
+            let (s, c) = lp.yaw.sin_cos();
+            for (j, b) in beams.iter().enumerate() {
+                let cell = self.cell(lp.x + c * b.x - s * b.y, lp.y + s * b.x + c * b.y);
+                let l = cell.map_or(*log_far, |i| log_pz[i]) as f64;
+                if skip {
+                    let f = cell.map_or(self.far, |i| self.field[i]) as f64;
+                    agree[j] += (f > agree_above) as usize;
+                    log_all[k * nb + j] = l;
+                } else {
+                    logp[k] += l;
+                }
+            }
+        }
+        if skip {
+            let keep: Vec<bool> = agree.iter().map(|&a| a as f64 / particles.len().max(1) as f64 > p.beam_skip_threshold).collect();
+            let skipped = keep.iter().filter(|k| !**k).count();
+            // Most beams disagree: the filter has probably converged to a wrong pose; use all.
+            let all = skipped as f64 >= nb as f64 * p.beam_skip_error_threshold;
+            for (k, l) in logp.iter_mut().enumerate() {
+                *l = (0..nb).filter(|&j| all || keep[j]).map(|j| log_all[k * nb + j]).sum();
+            }
+        }
+        // Scaled by the largest likelihood so that many beams cannot underflow every weight.
+        let top = logp.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let top = if top.is_finite() { top } else { 0.0 };
+        let mut total = 0.0;
+        for ((_, w), l) in particles.iter_mut().zip(&logp) {
+            *w *= (l - top).exp();
+            total += *w;
+        }
+        total * top.exp()
+    }
+
+    /// Beam model against ranges ray-cast in the map, `1 + sum(pz^3)`.
+    fn weigh_beam(&self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], particles: &mut [(Pose2, f64)]) -> f64 {
+        let max = scan.range_max;
+        let s2 = 2.0 * p.laser_sigma_hit * p.laser_sigma_hit;
+        let mut total = 0.0;
+        for (pose, w) in particles.iter_mut() {
+            let lp = pose.compose(laser);
+            let mut sum = 0.0;
+            for b in beams {
+                let expected = self.ray_range(lp.x, lp.y, lp.yaw + b.bearing, max);
+                let z = b.range - expected;
+                let mut pz = p.laser_z_hit * (-(z * z) / s2).exp();
+                if z < 0.0 {
+                    pz += p.laser_z_short * p.laser_lambda_short * (-p.laser_lambda_short * b.range).exp();
+                }
+                if b.range >= max {
+                    pz += p.laser_z_max;
+                } else {
+                    pz += p.laser_z_rand / max;
+                }
+                sum += pz * pz * pz;
+            }
+            *w *= 1.0 + sum;
+            total += *w;
+        }
+        total
+    }
+
+    /// Distance from (x, y) along heading `a` to the first cell a beam stops in (occupied,
+    /// unknown or off the map), capped at `max` (m); exact grid traversal.
+    fn ray_range(&self, x: f64, y: f64, a: f64, max: f64) -> f64 {
+        let (dx, dy) = (a.cos(), a.sin());
+        let (gx, gy) = ((x - self.origin.0) / self.res, (y - self.origin.1) / self.res);
+        let (mut c, mut r) = (gx.floor() as i64, gy.floor() as i64);
+        let step = |d: f64| if d > 0.0 { 1 } else { -1 };
+        let (sc, sr) = (step(dx), step(dy));
+        // Distances (in cells) along the ray between cell edges, and to the next edge; a ray
+        // parallel to an axis never crosses that axis's edges.
+        let next = |d: f64, g: f64, i: i64| match d {
+            d if d.abs() < 1e-12 => (f64::INFINITY, f64::INFINITY),
+            d if d > 0.0 => (1.0 / d, (i as f64 + 1.0 - g) / d),
+            d => (-1.0 / d, (g - i as f64) / -d),
+        };
+        let ((dtx, mut tx), (dty, mut ty)) = (next(dx, gx, c), next(dy, gy, r));
+        let (max_cells, mut t) = (max / self.res, 0.0);
+        loop {
+            let inside = c >= 0 && r >= 0 && c < self.size.0 && r < self.size.1;
+            if !inside || self.stops[(r * self.size.0 + c) as usize] {
+                return (t * self.res).min(max);
+            }
+            if tx < ty {
+                t = tx;
+                tx += dtx;
+                c += sc;
+            } else {
+                t = ty;
+                ty += dty;
+                r += sr;
+            }
+            if t >= max_cells {
+                return max;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4 x 4 m free room with walls one cell thick, 0.05 m cells, origin (0, 0).
+    fn room() -> OccupancyGrid {
+        let mut m = OccupancyGrid::new(80, 80, 0.05, Pose2::default(), GRID_FREE);
+        for i in 0..80 {
+            for (c, r) in [(i, 0), (i, 79), (0, i), (79, i)] {
+                m.set(c, r, GRID_OCCUPIED);
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn ray_cast_ranges_stop_at_the_first_wall_cell() {
+        let lm = LaserModel::new(&room(), &AmclParams::default());
+        // From (2.0, 2.0): the east wall's cell starts at x = 3.95.
+        assert!((lm.ray_range(2.0, 2.0, 0.0, 10.0) - 1.95).abs() < 1e-9);
+        assert!((lm.ray_range(2.0, 2.0, std::f64::consts::PI, 10.0) - 1.95).abs() < 1e-9);
+        assert!((lm.ray_range(2.0, 2.0, std::f64::consts::FRAC_PI_2, 10.0) - 1.95).abs() < 1e-9);
+        // Diagonal: to the corner cells.
+        let d = lm.ray_range(2.0, 2.0, std::f64::consts::FRAC_PI_4, 10.0);
+        assert!((d - 1.95 * 2f64.sqrt()).abs() < 0.08, "{d}");
+        assert_eq!(lm.ray_range(2.0, 2.0, 0.0, 1.0), 1.0);
+    }
+
+    /// The weight of a particle at `pose` for a scan taken at `truth` with each model.
+    fn weights(model: LaserModelType, truth: Pose2, poses: &[Pose2]) -> Vec<f64> {
+        let map = room();
+        let p = AmclParams { laser_model_type: model, ..Default::default() };
+        let mut lm = LaserModel::new(&map, &p);
+        let n = 90;
+        let inc = std::f64::consts::TAU / n as f64;
+        let ranges = (0..n).map(|i| lm.ray_range(truth.x, truth.y, truth.yaw - std::f64::consts::PI + i as f64 * inc, 3.5) as f32).map(|r| if r >= 3.5 { f32::NAN } else { r }).collect();
+        let scan = LaserScan { angle_min: -std::f64::consts::PI, angle_max: std::f64::consts::PI - inc, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges };
+        let mut parts: Vec<(Pose2, f64)> = poses.iter().map(|&q| (q, 1.0)).collect();
+        lm.weigh(&p, &scan, Pose2::default(), &mut parts, false);
+        parts.iter().map(|x| x.1).collect()
+    }
+
+    #[test]
+    fn every_model_prefers_the_true_pose() {
+        let truth = Pose2::new(1.2, 1.6, 0.4);
+        let poses = [truth, Pose2::new(1.4, 1.6, 0.4), Pose2::new(1.2, 1.6, 0.6), Pose2::new(2.5, 2.5, 0.4)];
+        for model in [LaserModelType::LikelihoodField, LaserModelType::LikelihoodFieldProb, LaserModelType::Beam] {
+            let w = weights(model, truth, &poses);
+            assert!(w[1..].iter().all(|&x| x < w[0]), "{model:?}: {w:?}");
+        }
+        // The product is far sharper than ROS's sum of cubes.
+        let cubed = weights(LaserModelType::LikelihoodField, truth, &poses);
+        let prob = weights(LaserModelType::LikelihoodFieldProb, truth, &poses);
+        assert!(prob[0] / prob[1] > 100.0 * cubed[0] / cubed[1], "{prob:?} {cubed:?}");
+    }
+}
