@@ -4,12 +4,13 @@ use serde::{Deserialize, Serialize};
 use xhab_sim::action::Action;
 use xhab_sim::env::EnvView;
 use xhab_sim::oracle::ShortestPathFollower;
+use xhab_sim::sensors::CameraFrame;
 
 /// An agent of discrete actions. It sees the environment through `env` (its observation,
-/// and privileged state for oracles).
+/// and privileged state for oracles) and, when the run renders them, the camera's images.
 pub trait DiscreteAgent: Send {
-    /// The next action.
-    fn act(&mut self, env: &dyn EnvView) -> Action;
+    /// The next action, given the camera frame of this step (`--sensors`).
+    fn act(&mut self, env: &dyn EnvView, frame: Option<&CameraFrame>) -> Action;
     /// Called before each episode.
     fn reset(&mut self) {}
 }
@@ -45,7 +46,7 @@ impl AgentKind {
 struct OracleAgent(ShortestPathFollower);
 
 impl DiscreteAgent for OracleAgent {
-    fn act(&mut self, env: &dyn EnvView) -> Action {
+    fn act(&mut self, env: &dyn EnvView, _frame: Option<&CameraFrame>) -> Action {
         self.0.act(env)
     }
     fn reset(&mut self) {

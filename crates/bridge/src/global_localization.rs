@@ -11,7 +11,6 @@ use xhab_nav::amcl::Amcl;
 use xhab_sim::env::{EnvView, TaskConfig};
 use xhab_sim::episode::Episode;
 use xhab_sim::physics_env::PhysicsEnv;
-use xhab_sim::sensors::Lidar;
 use xhab_sim::world::World;
 use xhab_types::{OccupancyGrid, Pose2};
 
@@ -70,8 +69,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
     };
     let task = TaskConfig { max_episode_steps: u32::MAX, ..Default::default() };
     let mut env = PhysicsEnv::new(grid.clone(), &physics.scene, ep, task, &physics.profile, physics.config.clone(), seed).ok()?;
-    let (rs, lp) = setup.lidar.as_ref()?;
-    let mut lidar = Lidar::new(lp.clone(), seed);
+    let mut sensor = setup.scan.as_ref()?.sensor(seed);
     let mut amcl = Amcl::new(&amcl_map, setup.params.amcl.clone(), seed);
     amcl.global_init();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x9e37_79b9_7f4a_7c15);
@@ -93,7 +91,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
         let t = episode_time(env.sim_s());
         let scan = if sched.due(t) {
             sched.taken += 1;
-            Some(lidar.scan(rs, env.pose(), grid.floor_z))
+            Some(sensor.scan(env.pose(), grid.floor_z).ok()?)
         } else {
             None
         };

@@ -9,4 +9,5 @@ pub mod explore;
 pub mod global_localization;
 pub mod nav_agent;
 pub mod runner;
+pub mod scan_source;
 pub mod ros;

@@ -11,7 +11,7 @@ use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
 use xhab_sim::env::{DiscreteEnv, EnvView};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
-use xhab_sim::sensors::{Lidar, LidarParams, RayScene};
+use crate::scan_source::ScanSource;
 use xhab_types::{OccupancyGrid, Pose2};
 
 /// Where the navigator believes the robot is.
@@ -36,8 +36,9 @@ pub struct NavSetup {
     pub map: Option<Arc<OccupancyGrid>>,
     /// Localisation source.
     pub localization: Localization,
-    /// The planar lidar feeding the obstacle layer (scene for ray casting, parameters), if any.
-    pub lidar: Option<(Arc<RayScene>, LidarParams)>,
+    /// The laser scans feeding the obstacle layer and AMCL (a lidar, or the depth camera
+    /// through depthimage_to_laserscan), if any.
+    pub scan: Option<ScanSource>,
     /// Scan period (s, default 0.1 = 10 Hz).
     pub scan_period: f64,
 }
@@ -46,7 +47,7 @@ impl NavSetup {
     /// Whether AMCL localises on the scan-plane map ([`localization_map`]) rather than on the
     /// navigation map.
     pub fn scan_plane_localization(&self) -> bool {
-        self.localization == Localization::Amcl && self.map.is_none() && self.lidar.is_some()
+        self.localization == Localization::Amcl && self.map.is_none() && self.scan.is_some()
     }
 }
 
@@ -198,8 +199,8 @@ pub const SCAN_PLANE_HALF_BAND: f64 = 0.025;
 /// ([`NavGrid::slice_map`]): what a SLAM run with that lidar would map. A table is then its
 /// legs, as the lidar sees it, not the block the costmap must keep the body away from.
 pub fn localization_map(setup: &NavSetup, grid: &NavGrid, scene: &xhab_sim::scene::Scene) -> Option<OccupancyGrid> {
-    let (_, lp) = setup.lidar.as_ref()?;
-    setup.scan_plane_localization().then(|| grid.slice_map(scene, lp.mount_height, SCAN_PLANE_HALF_BAND))
+    let source = setup.scan.as_ref()?;
+    setup.scan_plane_localization().then(|| grid.slice_map(scene, source.height(), SCAN_PLANE_HALF_BAND))
 }
 
 /// Episode time of `sim_s`, rounded to the nanosecond (what a ROS stamp carries).
@@ -208,7 +209,7 @@ pub fn episode_time(sim_s: f64) -> f64 {
 }
 
 /// Runs one episode with the navigator on `env` (already reset), returning its outcome.
-pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::scene::Scene, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
+pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::scene::Scene, index: usize, ep_id: &str, goal: xhab_types::Point2, setup: &NavSetup, cfg: &RunConfig, t0: Instant) -> Outcome {
     // The navigator gets its inputs through the same message conversions as the ROS nav node
     // (f32 map resolution and scan angles, yaw through a quaternion), so that a run over ROS
     // is identical to this one.
@@ -224,12 +225,25 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
     let mut brain = NavBrain::new(setup, &map, &amcl_map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
-    let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), cfg.seed)));
+    let mut sensor = setup.scan.as_ref().map(|s| s.sensor(cfg.seed));
     let mut aborted = false;
+    let mut stats = crate::runner::RenderStats::default();
+    let mut step = 0u64;
     while !env.is_done() {
         let t = episode_time(env.sim_s());
-        let scan = match lidar.as_mut() {
-            Some((rs, l)) if brain.scan_due(t) => Some(cv::scan_from_msg(&cv::laser_scan(0, t, "laser", &l.scan(rs, env.pose(), grid.floor_z), setup.scan_period))),
+        // The observation's camera frame (`--sensors`): rendered at each controller step; the
+        // navigator reads scans only (a depth scan source renders its own).
+        if let Some(rig) = cfg.sensors.as_deref() {
+            if let Err(reason) = crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
+                return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason });
+            }
+        }
+        step += 1;
+        let scan = match sensor.as_mut() {
+            Some(s) if brain.scan_due(t) => match s.scan(env.pose(), grid.floor_z) {
+                Ok(scan) => Some(cv::scan_from_msg(&cv::laser_scan(0, t, "laser", &scan, setup.scan_period))),
+                Err(e) => return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason: format!("scan at {t:.2} s: {e}") }),
+            },
             _ => None,
         };
         let inp = NavInputs { t, odom: via(env.odometry()), twist: env.robot().twist(), truth: Some(via(env.pose())), scan: scan.as_ref() };
@@ -253,5 +267,6 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         sim_s: Some(env.sim_s()),
         stuck: Some(env.stuck() || aborted),
         localization_error: brain.localization_error(),
+        render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
     })
 }

@@ -12,6 +12,7 @@ use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_sim::episode::{Dataset, Episode};
 use xhab_sim::metrics::EpisodeMetrics;
 use xhab_sim::world::World;
+use xhab_sim::sensors::{CameraFrame, CameraRig};
 use xhab_types::Pose2;
 
 /// How to run a benchmark.
@@ -31,6 +32,26 @@ pub struct RunConfig {
     pub seed: u64,
     /// The native navigation stack's setup, for the `nav` agent (which needs physics).
     pub nav: Option<crate::nav_agent::NavSetup>,
+    /// The camera whose frames every observation carries (`--sensors`), if any.
+    pub sensors: Option<Arc<CameraRig>>,
+}
+
+/// Frames rendered in an episode and the wall time spent on them.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct RenderStats {
+    pub frames: u64,
+    pub seconds: f64,
+}
+
+/// Renders the frame of step `step` of episode `index` from `base` (timed into `stats`); the
+/// noise seed depends on the run's seed, the episode and the step only.
+pub(crate) fn capture(rig: &CameraRig, base: Pose2, floor_z: f64, seed: u64, index: usize, step: u64, stats: &mut RenderStats) -> Result<CameraFrame, String> {
+    let t = Instant::now();
+    let s = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (index as u64).wrapping_mul(0xbf58_476d_1ce4_e5b9) ^ step;
+    let f = rig.capture(base, floor_z, s).map_err(|e| format!("rendering the camera at step {step}: {e}"))?;
+    stats.frames += 1;
+    stats.seconds += t.elapsed().as_secs_f64();
+    Ok(f)
 }
 
 /// What a physics run needs: the scene's shared rigid mesh, the robot and the settings.
@@ -64,6 +85,9 @@ pub struct EpisodeRun {
     /// filter's updates (AMCL runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub localization_error: Option<[f64; 2]>,
+    /// Camera frames rendered, and the wall time spent rendering them (s) (`--sensors` runs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render: Option<(u64, f64)>,
 }
 
 /// An episode that could not run, and why.
@@ -135,7 +159,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     };
     if let (MadeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
         let goal = ep.goals[0].position.xy();
-        return crate::nav_agent::run_nav(e, &grid, &world.scene, &ep.episode_id, goal, setup, cfg, t0);
+        return crate::nav_agent::run_nav(e, &grid, &world.scene, index, &ep.episode_id, goal, setup, cfg, t0);
     }
     let Some(mut agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));
@@ -143,9 +167,19 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     agent.reset();
     let env = made.as_dyn();
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
+    let mut stats = RenderStats::default();
+    let mut step = 0u64;
     while !env.is_done() {
-        let a = agent.act(env);
+        let frame = match cfg.sensors.as_deref() {
+            Some(rig) => match capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
+                Ok(f) => Some(f),
+                Err(reason) => return invalid(reason),
+            },
+            None => None,
+        };
+        let a = agent.act(env, frame.as_ref());
         env.step(a);
+        step += 1;
         if let Some(t) = traj.as_mut() {
             t.push(env.pose());
         }
@@ -163,6 +197,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         sim_s,
         stuck,
         localization_error: None,
+        render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
     })
 }
 
@@ -228,6 +263,15 @@ pub struct Aggregate {
     /// Wall time over ROS divided by wall time in-process (`--compare-ros` runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ros_overhead: Option<f64>,
+    /// Camera frames rendered over the run (`--sensors` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u64>,
+    /// Wall time spent rendering them, summed over threads (s) (`--sensors` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render_s: Option<f64>,
+    /// Frames per second of rendering time (`--sensors` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render_frames_per_s: Option<f64>,
 }
 
 /// Why episodes failed (each failed episode counts once, in the first matching cause).
@@ -259,11 +303,17 @@ pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
         }
     }
     let loc: Vec<[f64; 2]> = runs.iter().filter_map(|r| r.localization_error).collect();
+    let render: Vec<(u64, f64)> = runs.iter().filter_map(|r| r.render).collect();
+    let (frames, render_s) = render.iter().fold((0u64, 0.0), |a, r| (a.0 + r.0, a.1 + r.1));
+    let rendered = !render.is_empty();
     let loc_mean = |k: usize| (!loc.is_empty()).then(|| loc.iter().map(|e| e[k]).sum::<f64>() / loc.len() as f64);
     Aggregate {
         localization_error_m: loc_mean(0),
         localization_error_deg: loc_mean(1).map(f64::to_degrees),
         ros_overhead: None,
+        frames: rendered.then_some(frames),
+        render_s: rendered.then_some(render_s),
+        render_frames_per_s: rendered.then(|| if render_s > 0.0 { frames as f64 / render_s } else { 0.0 }),
         sim_s: physics.then_some(sim_s),
         real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
         stuck: physics.then(|| runs.iter().filter(|r| r.stuck == Some(true)).count() as f64 / n),

@@ -338,7 +338,7 @@ pub struct GeodesicArgs {
 }
 
 /// Agents for `bench`.
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum AgentArg {
     /// Greedy shortest-path follower over discrete actions.
     Oracle,
@@ -399,9 +399,26 @@ pub struct BenchArgs {
     /// Navigation parameters (move_base-style YAML with ROS names).
     #[arg(long, help_heading = "Navigation")]
     pub nav_params: Option<PathBuf>,
-    /// Run the nav agent without its planar lidar (static map only, no obstacle layer).
+    /// Run the nav agent without laser scans (static map only, no obstacle layer).
     #[arg(long, help_heading = "Navigation")]
     pub no_scans: bool,
+    /// Where the nav agent's laser scans come from: a planar lidar (LDS-01: 360 beams, 3.5 m,
+    /// 0.2 m up), or the depth camera through depthimage_to_laserscan (the camera's height and
+    /// field of view, range 0.45-10 m), as ROS-X-Habitat fed move_base.
+    #[arg(long, value_enum, default_value_t = ScanSourceArg::Lidar, help_heading = "Navigation")]
+    pub scan_source: ScanSourceArg,
+    /// Camera images each observation carries, rendered at every step: `depth`, or `depth,rgb`.
+    /// Agents receive them; the JSON reports rendering time.
+    #[arg(long, value_delimiter = ',', help_heading = "Camera")]
+    pub sensors: Vec<String>,
+    /// Standard deviation of the depth noise at 1 m (m; it grows with depth squared) [default: 0, off].
+    #[arg(long, default_value_t = 0.0, help_heading = "Camera")]
+    pub depth_noise: f64,
+    /// Probability that a depth pixel on an edge reads no return [default: 0, off].
+    #[arg(long, default_value_t = 0.0, help_heading = "Camera")]
+    pub edge_dropout: f64,
+    #[command(flatten)]
+    pub camera: CameraOpts,
     /// Run the agent and the simulator as separate ROS 1 nodes through a real rosmaster, in lock-step.
     #[arg(long, help_heading = "ROS")]
     pub ros: bool,
@@ -418,6 +435,15 @@ pub struct BenchArgs {
     pub physics: PhysicsOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
+}
+
+/// Where the nav agent's scans come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ScanSourceArg {
+    /// The planar lidar.
+    Lidar,
+    /// The depth camera, through depthimage_to_laserscan.
+    Depth,
 }
 
 /// Physics mode options.
@@ -462,9 +488,9 @@ pub struct CameraOpts {
     /// Horizontal field of view (degrees).
     #[arg(long, default_value_t = 90.0, help_heading = "Camera")]
     pub hfov: f64,
-    /// Camera height above the robot's base (m).
-    #[arg(long, default_value_t = 1.25, help_heading = "Camera")]
-    pub camera_height: f64,
+    /// Camera height above the floor (m) [default: the robot profile's; 1.25, Habitat's agent].
+    #[arg(long, help_heading = "Camera")]
+    pub camera_height: Option<f64>,
     /// Also measure batched rendering: N views per call (`perf --sensors`), reported per view.
     #[arg(long, value_name = "N", help_heading = "Camera")]
     pub batch: Option<usize>,

@@ -25,6 +25,14 @@ pub struct BenchReport {
     /// Physics settings and robot (physics runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physics: Option<serde_json::Value>,
+    /// The camera every observation carries (`--sensors` runs only): images, renderer,
+    /// intrinsics and mount, depth noise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera: Option<serde_json::Value>,
+    /// The nav agent's setup (nav runs only): localisation, scan source and the map AMCL
+    /// localises on.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nav: Option<serde_json::Value>,
     /// Means over valid episodes.
     pub aggregate: Aggregate,
     /// Episodes left out because their start or goal is not navigable for the agent.
@@ -102,6 +110,12 @@ pub struct EpisodeReport {
     /// Mean localisation heading error (degrees), AMCL runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub localization_error_deg: Option<f64>,
+    /// Camera frames rendered (`--sensors` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u64>,
+    /// Wall time spent rendering them (s) (`--sensors` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render_s: Option<f64>,
 }
 
 impl From<&EpisodeRun> for EpisodeReport {
@@ -125,6 +139,8 @@ impl From<&EpisodeRun> for EpisodeReport {
             stuck: r.stuck,
             localization_error_m: r.localization_error.map(|e| e[0]),
             localization_error_deg: r.localization_error.map(|e| e[1].to_degrees()),
+            frames: r.render.map(|r| r.0),
+            render_s: r.render.map(|r| r.1),
         }
     }
 }

@@ -25,7 +25,7 @@ fn tmp(name: &str) -> std::path::PathBuf {
 fn without_timings(v: &mut serde_json::Value) {
     match v {
         serde_json::Value::Object(m) => {
-            m.retain(|k, _| k != "wall_s" && k != "steps_per_s");
+            m.retain(|k, _| !matches!(k.as_str(), "wall_s" | "steps_per_s" | "render_s" | "render_frames_per_s" | "real_time_factor"));
             m.values_mut().for_each(without_timings);
         }
         serde_json::Value::Array(a) => a.iter_mut().for_each(without_timings),
@@ -276,4 +276,51 @@ fn exploring_turtlebot3_house_and_pal_home_maps_them() {
         assert!(v["connected_free_coverage"].as_f64().unwrap() >= 0.95, "{s}: {v}");
         assert!(v["free_occupied_in_reference"].as_f64().unwrap() <= 0.01, "{s}: {v}");
     }
+}
+
+#[test]
+fn bench_sensors_render_every_step_deterministically() {
+    let d = tmp("sensors");
+    let eps = d.join("e.json.gz");
+    run(&["episodes", "procedural:2", "--count", "4", "--seed", "3", "--out", eps.to_str().unwrap()]);
+    let bench = |out: &Path, threads: &str| {
+        run(&["bench", "--scene", "procedural:2", "--episodes", eps.to_str().unwrap(), "--sensors", "depth,rgb", "--resolution", "64", "--depth-noise", "0.01", "--edge-dropout", "0.2", "--renderer", "raster", "--threads", threads, "--out", out.to_str().unwrap(), "--quiet"]);
+        read_json(out)
+    };
+    let (mut a, mut b) = (bench(&d.join("a.json"), "1"), bench(&d.join("b.json"), "2"));
+    assert_eq!(a["camera"]["sensors"], serde_json::json!(["depth", "rgb"]), "{}", a["camera"]);
+    assert_eq!(a["camera"]["params"]["width"], 64);
+    // One frame per action: the observation each action was chosen on.
+    for e in a["episodes"].as_array().unwrap() {
+        assert_eq!(e["frames"], e["steps"], "{e}");
+        assert!(e["render_s"].as_f64().unwrap() > 0.0);
+    }
+    let total: u64 = a["episodes"].as_array().unwrap().iter().map(|e| e["frames"].as_u64().unwrap()).sum();
+    assert_eq!(a["aggregate"]["frames"], total);
+    assert!(a["aggregate"]["render_frames_per_s"].as_f64().unwrap() > 0.0);
+    without_timings(&mut a);
+    without_timings(&mut b);
+    a.as_object_mut().unwrap().remove("threads");
+    b.as_object_mut().unwrap().remove("threads");
+    assert_eq!(a, b, "sensor runs depend on the run or the thread count");
+    let bad = xhab().args(["bench", "--scene", "procedural:2", "--episodes", eps.to_str().unwrap(), "--sensors", "depth,thermal"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("thermal"));
+}
+
+#[test]
+fn nav_agent_navigates_on_scans_from_the_depth_camera() {
+    let d = tmp("depthscan");
+    let eps = d.join("e.json.gz");
+    run(&["episodes", "procedural:6", "--count", "4", "--seed", "8", "--out", eps.to_str().unwrap()]);
+    let r = d.join("r.json");
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--scan-source", "depth", "--localization", "amcl", "--renderer", "raster", "--out", r.to_str().unwrap(), "--quiet"]);
+    let j = read_json(&r);
+    assert_eq!(j["nav"]["scan_source"], "depth", "{}", j["nav"]);
+    assert_eq!(j["nav"]["amcl_map"], "scan_plane");
+    assert!((j["nav"]["scan_height_m"].as_f64().unwrap() - 1.25).abs() < 1e-9);
+    let a = &j["aggregate"];
+    eprintln!("nav on depth scans, AMCL, procedural:6: {a}");
+    assert!(a["success"].as_f64().unwrap() >= 0.75, "{a}");
+    assert!(a["localization_error_m"].as_f64().unwrap() < 0.15, "{a}");
 }

@@ -97,7 +97,7 @@ pub async fn run(uri: &str, name: &str, world: Arc<World>, kind: AgentKind, task
             return Err(RosError::Protocol("an observation arrived before any episode began (header.seq 0)".into()));
         };
         v.pose = pose;
-        let a = agent.act(v);
+        let a = agent.act(v, None);
         action.publish(&std_msgs::Int16 { data: a as i16 }).await.map_err(|e| pub_err(e.to_string()))?;
     }
 }

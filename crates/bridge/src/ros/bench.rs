@@ -12,7 +12,6 @@ use std::time::{Duration, Instant};
 use xhab_sim::action::Action;
 use xhab_sim::env::{DiscreteEnv, EnvView};
 use xhab_sim::episode::Dataset;
-use xhab_sim::sensors::Lidar;
 use xhab_sim::world::World;
 use xhab_types::Pose2;
 
@@ -44,7 +43,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let (stats_tx, mut stats_rx) = tokio::sync::mpsc::unbounded_channel();
     let agent = match (cfg.agent, &cfg.nav) {
         (AgentKind::Nav, Some(setup)) => {
-            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.lidar.is_some(), expect_amcl_map: setup.scan_plane_localization(), seed: cfg.seed, timeout: opts.timeout };
+            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.scan.is_some(), expect_amcl_map: setup.scan_plane_localization(), seed: cfg.seed, timeout: opts.timeout };
             let uri = uri.to_string();
             tokio::spawn(async move { super::nav_node::run(&uri, "xhab_nav", o, None, None, stop_rx, Some(stats_tx)).await })
         }
@@ -62,7 +61,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
             if nav.scan_plane_localization() {
                 topics.push(super::sim_node::AMCL_MAP_TOPIC);
             }
-            if nav.lidar.is_some() {
+            if nav.scan.is_some() {
                 topics.push("scan");
             }
             topics.push("odom");
@@ -125,6 +124,16 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     let mut traj = cfg.record_trajectories.then(|| vec![made.as_dyn().pose()]);
     let mut aborted = false;
     let mut end_t = 0.0;
+    let mut stats = crate::runner::RenderStats::default();
+    // The step's camera frame (`--sensors`), rendered and published before the step's state.
+    macro_rules! camera {
+        ($seq:expr, $stamp:expr, $pose:expr) => {
+            if let Some(rig) = cfg.sensors.as_deref() {
+                let f = crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $seq as u64, &mut stats).map_err(RosError::Node)?;
+                sim.publish_frame($seq, $stamp, &rig.params, &f).await?;
+            }
+        };
+    }
     match (&mut made, cfg.agent, &cfg.nav) {
         (MadeEnv::Physics(env), AgentKind::Nav, Some(setup)) => {
             let setup: &NavSetup = setup;
@@ -136,20 +145,21 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
             sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW).await?;
             let period = setup.params.dwa.controller_period.max(1e-3);
-            let mut lidar = setup.lidar.as_ref().map(|(rs, p)| (rs.clone(), p.clone(), Lidar::new(p.clone(), cfg.seed)));
+            let mut sensor = setup.scan.as_ref().map(|s| s.sensor(cfg.seed));
+            let laser_z = setup.scan.as_ref().map_or(0.0, |s| s.height());
             // The same schedule as the navigator's (a scan every scan_period from 0).
             let mut sched = ScanSchedule::new(setup.scan_period);
             let mut seq = 0u32;
             while !env.is_done() {
                 let t = episode_time(env.sim_s());
-                let scan = match lidar.as_mut() {
-                    Some((rs, _, l)) if sched.due(t) => {
+                let scan = match sensor.as_mut() {
+                    Some(s) if sched.due(t) => {
                         sched.taken += 1;
-                        Some(l.scan(rs, env.pose(), grid.floor_z))
+                        Some(s.scan(env.pose(), grid.floor_z).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
                     }
                     _ => None,
                 };
-                let laser_z = lidar.as_ref().map_or(0.0, |(_, p, _)| p.mount_height);
+                camera!(seq, stamp(t), env.pose());
                 let st = RobotState { seq, stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period, laser_z)) };
                 sim.publish_state(&st).await?;
                 match sim.next_command().await? {
@@ -176,6 +186,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                 // Discrete steps are one control period apart on the clock.
                 let t = seq as f64;
                 let p = env.pose();
+                camera!(seq, stamp(t), p);
                 let st = RobotState { seq, stamp: stamp(t), truth: p, floor_z: start_z, odom: p, twist: Default::default(), scan: None };
                 sim.publish_state(&st).await?;
                 match sim.next_command().await? {
@@ -201,5 +212,5 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
         MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck() || aborted)),
         MadeEnv::Plain(_) => (None, None),
     };
-    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None })
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)) })
 }

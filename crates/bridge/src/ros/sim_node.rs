@@ -7,7 +7,7 @@ use super::node::{self, RosError};
 use roslibrust::ros1::{NodeHandle, Publisher};
 use std::time::Duration;
 use tokio::sync::mpsc;
-use xhab_sim::sensors::{CameraParams, DepthNoise, Renderer};
+use xhab_sim::sensors::{CameraFrame, CameraParams, DepthNoise, Renderer};
 use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
 
 /// The camera's optical frame (z forward, x right, y down).
@@ -157,6 +157,19 @@ impl SimNode {
         self.odom.publish(&cv::odometry(s.seq, s.stamp, s.odom, s.twist)).await.map_err(|e| perr("odom", e))?;
         let gt = gm::PoseStamped { header: cv::header(s.seq, s.stamp, "map"), pose: cv::pose(s.truth, s.floor_z) };
         self.truth.publish(&gt).await.map_err(|e| perr("ground_truth/pose", e))
+    }
+
+    /// Publishes a rendered camera frame: depth, and RGB when it has one, each with its
+    /// camera_info.
+    pub async fn publish_frame(&self, seq: u32, stamp: f64, cam: &CameraParams, frame: &CameraFrame) -> Result<(), RosError> {
+        let k = cam.intrinsics();
+        self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
+        self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &frame.depth)).await.map_err(|e| perr("depth", e))?;
+        if let Some(rgb) = &frame.rgb {
+            self.rgb_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
+            self.rgb.publish(&cv::rgb_image(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, rgb.clone())).await.map_err(|e| perr("rgb", e))?;
+        }
+        Ok(())
     }
 
     /// Renders and publishes depth (with `noise`, seeded by `seed` and `seq`; and RGB when

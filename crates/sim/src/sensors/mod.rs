@@ -1,6 +1,7 @@
 //! Sensors by CPU ray casting (parry3d BVH), CPU rasterisation and wgpu: the depth camera and a planar lidar.
 
 pub mod camera;
+pub mod camera_rig;
 pub mod depth_noise;
 pub mod gpu;
 pub mod lidar;
@@ -9,6 +10,7 @@ pub mod raycast;
 pub mod renderer;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
+pub use camera_rig::{CameraFrame, CameraRig};
 pub use depth_noise::DepthNoise;
 pub use gpu::{GpuError, GpuRenderer};
 pub use lidar::{Lidar, LidarParams};

@@ -1,6 +1,6 @@
 //! `xhab bench`: an agent on every episode of a dataset; metrics as JSON, CSV and a table.
 
-use crate::cli::{AgentArg, BenchArgs, LocalizationArg, PhysicsOpts};
+use crate::cli::{AgentArg, BenchArgs, LocalizationArg, PhysicsOpts, ScanSourceArg};
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_nav::navigator::{params_from_yaml, NavParams};
 use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
@@ -17,7 +17,9 @@ use xhab_bridge::ros::bench::{run_dataset_ros, RosOptions};
 use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, PhysicsSetup, RunConfig};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
-use xhab_sim::sensors::{LidarParams, RayScene};
+use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RayScene, Renderer};
+use xhab_bridge::scan_source::ScanSource;
+use xhab_nav::depth_to_scan::DepthToScanParams;
 use xhab_sim::env::TaskConfig;
 use xhab_sim::episode::{read_dataset, Dataset};
 use xhab_sim::world::World;
@@ -40,11 +42,14 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     };
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
     let physics = physics_setup(&world, &physics_opts)?;
+    let camera_height = physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height);
+    let renderer = run_renderer(a, &world)?;
+    let sensors = sensor_rig(a, renderer.clone(), camera_height)?;
     let nav = match a.agent {
-        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| &p.profile), &world)?),
+        AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| &p.profile), &world, renderer, camera_height)?),
         AgentArg::Oracle => None,
     };
-    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav };
+    let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav, sensors };
     let ros = (a.ros || a.compare_ros).then(|| RosOptions { master: a.ros_master.clone(), timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)) });
     if ros.is_some() && cfg.threads > 1 {
         eprintln!("xhab: note: over ROS episodes run one at a time (lock-step); --threads applies to the in-process run only");
@@ -82,8 +87,36 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The renderer `--renderer` picks, built once per run (`None` when nothing renders).
+fn run_renderer(a: &BenchArgs, world: &World) -> Result<Option<Arc<Renderer>>> {
+    let depth_scans = a.agent == AgentArg::Nav && a.scan_source == ScanSourceArg::Depth && !a.no_scans;
+    if a.sensors.is_empty() && !depth_scans {
+        return Ok(None);
+    }
+    Ok(Some(Arc::new(super::render::renderer(&a.camera, &world.scene)?)))
+}
+
+/// The camera of `--sensors` (None without it): which images, resolution, noise.
+fn sensor_rig(a: &BenchArgs, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<Option<Arc<CameraRig>>> {
+    let mut rgb = false;
+    for s in &a.sensors {
+        match s.as_str() {
+            "depth" => {}
+            "rgb" => rgb = true,
+            other => anyhow::bail!("--sensors: unknown sensor '{other}' (depth, rgb)"),
+        }
+    }
+    if !(a.depth_noise >= 0.0 && a.depth_noise.is_finite()) || !(0.0..=1.0).contains(&a.edge_dropout) {
+        anyhow::bail!("--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
+    }
+    let Some(renderer) = renderer.filter(|_| !a.sensors.is_empty()) else { return Ok(None) };
+    let params = super::render::camera(&a.camera, camera_height)?;
+    let noise = DepthNoise { sigma_at_1m: a.depth_noise, edge_threshold: 0.1, edge_dropout: a.edge_dropout };
+    Ok(Some(Arc::new(CameraRig { renderer, params, rgb, noise })))
+}
+
 /// The nav agent's setup: parameters (YAML or defaults sized to the robot), map, localisation.
-fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World) -> Result<NavSetup> {
+fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<NavSetup> {
     let params = match &a.nav_params {
         Some(p) => {
             let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
@@ -108,15 +141,22 @@ fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World) -> Resu
         LocalizationArg::Amcl => Localization::Amcl,
     };
     if a.no_scans && localization == Localization::Amcl {
-        anyhow::bail!("--localization amcl needs the lidar: drop --no-scans");
+        anyhow::bail!("--localization amcl needs laser scans: drop --no-scans");
     }
-    let lidar = if a.no_scans {
-        None
-    } else {
-        let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-        Some((Arc::new(rs), LidarParams::default()))
+    let scan = match (a.no_scans, a.scan_source) {
+        (true, _) => None,
+        (false, ScanSourceArg::Lidar) => {
+            let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
+            Some(ScanSource::lidar(Arc::new(rs)))
+        }
+        (false, ScanSourceArg::Depth) => {
+            let renderer = renderer.context("a renderer for the depth scans")?;
+            let params = super::render::camera(&a.camera, camera_height)?;
+            let noise = DepthNoise { sigma_at_1m: a.depth_noise, edge_threshold: 0.1, edge_dropout: a.edge_dropout };
+            Some(ScanSource::Depth { rig: Arc::new(CameraRig { renderer, params, rgb: false, noise }), params: DepthToScanParams::default() })
+        }
     };
-    Ok(NavSetup { params, map, localization, lidar, scan_period: 0.1 })
+    Ok(NavSetup { params, map, localization, scan, scan_period: 0.1 })
 }
 
 /// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.
@@ -174,6 +214,18 @@ pub fn bench(
         threads: cfg.threads,
         task: cfg.task.clone(),
         physics: cfg.physics.as_ref().map(|p| serde_json::json!({"robot": p.profile, "config": p.config, "seed": cfg.seed})),
+        camera: cfg.sensors.as_ref().map(|r| {
+            let images: Vec<&str> = if r.rgb { vec!["depth", "rgb"] } else { vec!["depth"] };
+            serde_json::json!({"sensors": images, "renderer": r.renderer.name(), "params": r.params, "noise": r.noise})
+        }),
+        nav: cfg.nav.as_ref().map(|n| {
+            serde_json::json!({
+                "localization": n.localization,
+                "scan_source": n.scan.as_ref().map(|s| s.name()),
+                "scan_height_m": n.scan.as_ref().map(|s| s.height()),
+                "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
+            })
+        }),
         aggregate: agg,
         invalid: InvalidReport {
             count: invalid.len(),

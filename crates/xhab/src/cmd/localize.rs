@@ -9,7 +9,8 @@ use xhab_bridge::global_localization::{run_trials, GlobalLocConfig};
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_nav::navigator::NavParams;
 use xhab_sim::robot::RobotProfile;
-use xhab_sim::sensors::{LidarParams, RayScene};
+use xhab_bridge::scan_source::ScanSource;
+use xhab_sim::sensors::RayScene;
 
 pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
     let mut opts = a.scene_opts.clone();
@@ -33,7 +34,7 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
     }
     params.amcl.max_particles = a.particles;
     let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-    let setup = NavSetup { params, map: None, localization: Localization::Amcl, lidar: Some((Arc::new(rs), LidarParams::default())), scan_period: 0.1 };
+    let setup = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(ScanSource::lidar(Arc::new(rs))), scan_period: 0.1 };
     let map = match &a.map {
         Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
         None => None,

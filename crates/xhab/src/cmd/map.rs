@@ -78,9 +78,9 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
     }
     let physics = PhysicsScene::new(&world.scene)?;
     let rays = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-    let cam_opts = CameraOpts { renderer: a.renderer, resolution: 256, hfov: 90.0, camera_height: profile.camera_height, batch: None };
+    let cam_opts = CameraOpts { renderer: a.renderer, resolution: 256, hfov: 90.0, camera_height: Some(profile.camera_height), batch: None };
     let renderer = super::render::renderer(&cam_opts, &world.scene)?;
-    let cam = super::render::camera(&cam_opts)?;
+    let cam = super::render::camera(&cam_opts, profile.camera_height)?;
     let mut params = ExploreParams { max_time: a.max_time, ..Default::default() };
     // Obstacles are what the robot would hit: from the highest step it climbs to its height.
     params.projection.min_obstacle_height = grid.params.max_climb;

@@ -61,10 +61,10 @@ pub fn run(a: &NavigateArgs) -> Result<ExitCode> {
         params: params.clone(),
         map: Some(Arc::new(map.clone())),
         localization: Localization::GroundTruth,
-        lidar: Some((Arc::new(rs), xhab_sim::sensors::LidarParams::default())),
+        scan: Some(xhab_bridge::scan_source::ScanSource::lidar(Arc::new(rs))),
         scan_period: 0.1,
     };
-    let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, physics: Some(physics), seed: 0, nav: Some(nav) };
+    let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, sensors: None, physics: Some(physics), seed: 0, nav: Some(nav) };
     let outcome = run_episode(&world, &ep, 0, &cfg);
     let mut pic = MapPicture::new(&map);
     let cm = Costmap::from_map(&map, &params.global_costmap);

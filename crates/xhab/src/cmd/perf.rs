@@ -220,7 +220,7 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
             anyhow::bail!("--sensors: unknown sensor '{s}' (depth, rgb)");
         }
     }
-    let cam = super::render::camera(&a.camera)?;
+    let cam = super::render::camera(&a.camera, xhab_sim::sensors::CameraParams::default().mount_height)?;
     let rgb = a.sensors.iter().any(|s| s == "rgb");
     let t = Instant::now();
     let r = super::render::renderer(&a.camera, &world.scene)?;

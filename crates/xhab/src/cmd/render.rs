@@ -8,12 +8,16 @@ use std::process::ExitCode;
 use xhab_sim::sensors::{CameraParams, Renderer, RendererKind};
 use xhab_types::Pose2;
 
-/// Camera parameters from the options.
-pub fn camera(o: &CameraOpts) -> Result<CameraParams> {
+/// Camera parameters from the options; `--camera-height` or else `default_height` (m).
+pub fn camera(o: &CameraOpts, default_height: f64) -> Result<CameraParams> {
     if o.resolution == 0 || o.resolution > 4096 || !(o.hfov > 0.0 && o.hfov < 180.0) {
         bail!("bad camera: --resolution must be in 1..=4096 and --hfov in (0, 180)");
     }
-    Ok(CameraParams { width: o.resolution, height: o.resolution, hfov_deg: o.hfov, mount_height: o.camera_height, ..Default::default() })
+    let mount_height = o.camera_height.unwrap_or(default_height);
+    if !(mount_height.is_finite() && mount_height > 0.0) {
+        bail!("bad camera: --camera-height must be a positive number of metres");
+    }
+    Ok(CameraParams { width: o.resolution, height: o.resolution, hfov_deg: o.hfov, mount_height, ..Default::default() })
 }
 
 /// The renderer `--renderer` asks for, built for `scene`; `auto` takes wgpu on a real GPU and
@@ -59,7 +63,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode> {
     if v.len() != 4 || v.iter().any(|x| !x.is_finite()) {
         bail!("bad --pose '{}': expected four finite numbers X,Y,Z,YAW", a.pose);
     }
-    let cam = camera(&a.camera)?;
+    let cam = camera(&a.camera, CameraParams::default().mount_height)?;
     let scene = load_scene(&a.scene, &a.scene_opts)?;
     let r = renderer(&a.camera, &scene)?;
     let pose = Pose2::new(v[0], v[1], v[3]);

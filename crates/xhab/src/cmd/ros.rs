@@ -64,7 +64,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 scan_period: 0.1,
                 camera: match a.camera {
                     true => {
-                        let o = crate::cli::CameraOpts { renderer: a.renderer, resolution: cam.width, hfov: cam.hfov_deg, camera_height: cam.mount_height, batch: None };
+                        let o = crate::cli::CameraOpts { renderer: a.renderer, resolution: cam.width, hfov: cam.hfov_deg, camera_height: Some(cam.mount_height), batch: None };
                         Some((Arc::new(super::render::renderer(&o, &world.scene)?), cam, a.rgb))
                     }
                     false => None,
@@ -103,7 +103,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 LocalizationArg::Odom => Localization::Odom,
                 LocalizationArg::Amcl => Localization::Amcl,
             };
-            let setup = NavSetup { params, map: None, localization, lidar: None, scan_period: 0.1 };
+            let setup = NavSetup { params, map: None, localization, scan: None, scan_period: 0.1 };
             let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, expect_scans: true, expect_amcl_map: false, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
             let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
             eprintln!("xhab: ROS master {}", master.uri);
