@@ -349,11 +349,13 @@ pub enum AgentArg {
 /// Localisation of the nav agent.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum LocalizationArg {
-    /// Ground truth from the simulator.
+    /// Ground truth from the simulator (`ground_truth`, as the README and the JSON spell it;
+    /// `ground-truth` is accepted too).
+    #[value(name = "ground_truth", alias = "ground-truth")]
     GroundTruth,
     /// Wheel odometry alone (drifts).
     Odom,
-    /// AMCL on the static map with odometry and the lidar.
+    /// AMCL with odometry and the laser scans.
     Amcl,
 }
 
