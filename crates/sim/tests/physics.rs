@@ -111,12 +111,12 @@ fn the_body_follows_a_ramp_and_small_bumps() {
     let mut s = Scene::default();
     s.add_box("floor", [-2.0, -2.0, -0.05], [8.0, 2.0, 0.0], GREY);
     // A 8.5 degree ramp from x = 1 to 3 up to 0.3 m, then a plateau to x = 6.
-    s.meshes.push(Mesh {
-        name: "ramp".into(),
-        positions: vec![[1.0, -2.0, 0.0], [3.0, -2.0, 0.3], [3.0, 2.0, 0.3], [1.0, 2.0, 0.0]],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-        base_color: GREY,
-    });
+    s.meshes.push(Mesh::new(
+        "ramp",
+        vec![[1.0, -2.0, 0.0], [3.0, -2.0, 0.3], [3.0, 2.0, 0.3], [1.0, 2.0, 0.0]],
+        vec![[0, 1, 2], [0, 2, 3]],
+        GREY,
+    ));
     s.add_box("plateau", [3.0, -2.0, 0.0], [6.0, 2.0, 0.3], GREY);
     // A 2 cm cable on the plateau.
     s.add_box("cable", [4.5, -2.0, 0.3], [4.55, 2.0, 0.32], GREY);

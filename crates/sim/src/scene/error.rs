@@ -38,6 +38,20 @@ pub enum SceneError {
         /// Index of the vertex.
         vertex: usize,
     },
+    /// A mesh's base-colour texture cannot be read: its image file is missing, its bytes
+    /// cannot be decoded (PNG and JPEG are read), or its glTF reference is broken. Fix or
+    /// remove the material's texture reference.
+    #[error("{path}: mesh '{mesh}': texture {image}: {reason}")]
+    Texture {
+        /// The scene file.
+        path: PathBuf,
+        /// Name of the mesh that uses the texture.
+        mesh: String,
+        /// The image, as the file names it (a path, or "image N").
+        image: String,
+        /// What is wrong, in words.
+        reason: String,
+    },
     /// The scene has no triangles left (after dropping ceilings).
     #[error("{path}: the scene has no triangles")]
     Empty {

@@ -1,5 +1,7 @@
-//! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame.
+//! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame;
+//! materials give the base colour factor and texture (with its `TEXCOORD_n` set).
 
+use super::gltf_texture::GltfTextures;
 use super::{Mesh, Scene, SceneError, UpAxis};
 use std::path::Path;
 
@@ -32,6 +34,10 @@ pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
         .map_err(|e| malformed(format!("cannot read the buffers: {e}")))?;
     let doc = gltf.document;
+    if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
+        tracing::warn!("{}: KHR_texture_transform is not applied: textures may be misplaced", path.display());
+    }
+    let mut textures = GltfTextures::new(path, &buffers);
     let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| malformed("the file has no scene".into()))?;
     let mut out = Scene::default();
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = scene.nodes().map(|n| (n, IDENTITY, 0)).collect();
@@ -45,7 +51,7 @@ pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
         if let Some(mesh) = node.mesh() {
             let name = node.name().filter(|s| !s.is_empty()).or(mesh.name()).unwrap_or("").to_string();
             for (pi, prim) in mesh.primitives().enumerate() {
-                if let Some(me) = primitive(path, &buffers, &prim, &m, &name, pi)? {
+                if let Some(me) = primitive(path, &buffers, &mut textures, &prim, &m, &name, pi)? {
                     out.meshes.push(me);
                 }
             }
@@ -55,12 +61,14 @@ pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
             stack.push((c, m, depth + 1));
         }
     }
+    out.textures = textures.textures;
     Ok(out)
 }
 
 fn primitive(
     path: &Path,
     buffers: &[gltf::buffer::Data],
+    textures: &mut GltfTextures,
     prim: &gltf::Primitive,
     m: &Mat4,
     name: &str,
@@ -96,6 +104,20 @@ fn primitive(
         _ => idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
     };
     let indices = tris.into_iter().map(|[a, b, c]| if flip { [a, c, b] } else { [a, b, c] }).collect();
-    let base_color = prim.material().pbr_metallic_roughness().base_color_factor();
-    Ok(Some(Mesh { name: name.to_string(), positions, indices, base_color }))
+    let pbr = prim.material().pbr_metallic_roughness();
+    let mut mesh = Mesh::new(name, positions, indices, pbr.base_color_factor());
+    if let Some(info) = pbr.base_color_texture() {
+        let set = info.tex_coord();
+        match reader.read_tex_coords(set) {
+            None => tracing::warn!(
+                "{}: mesh '{name}' primitive {pi}: its base colour texture uses TEXCOORD_{set}, which it lacks; drawn with its base colour factor only",
+                path.display()
+            ),
+            Some(uv) => {
+                mesh.uvs = uv.into_f32().collect();
+                mesh.texture = Some(textures.get(&info.texture(), name)?);
+            }
+        }
+    }
+    Ok(Some(mesh))
 }

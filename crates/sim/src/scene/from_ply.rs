@@ -60,5 +60,5 @@ pub(crate) fn load_ply(path: &Path, up: UpAxis) -> Result<Scene, SceneError> {
         }
     }
     let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
-    Ok(Scene { meshes: vec![Mesh { name, positions, indices, base_color: [0.6, 0.6, 0.6, 1.0] }] })
+    Ok(Scene { meshes: vec![Mesh::new(&name, positions, indices, [0.6, 0.6, 0.6, 1.0])], textures: Vec::new() })
 }

@@ -23,8 +23,26 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-/// Rejects non-finite vertices and out-of-range indices; drops empty meshes.
+/// Rejects non-finite vertices and out-of-range indices; drops empty meshes; drops (with a
+/// warning) a mesh's texture when its texture coordinates are missing, miscounted or
+/// non-finite, or its texture index is out of range, so it is drawn with its colour factor.
 pub(crate) fn check(scene: &mut Scene, path: &Path) -> Result<(), SceneError> {
+    let textures = scene.textures.len();
+    for m in &mut scene.meshes {
+        let why = match m.texture {
+            None => None,
+            Some(t) if t as usize >= textures => Some(format!("texture {t} does not exist ({textures} textures)")),
+            Some(_) if m.uvs.len() != m.positions.len() => {
+                Some(format!("{} texture coordinates for {} vertices", m.uvs.len(), m.positions.len()))
+            }
+            Some(_) => m.uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite())).map(|v| format!("non-finite texture coordinate at vertex {v}")),
+        };
+        if let Some(why) = why {
+            tracing::warn!("{}: mesh '{}': {why}; drawn with its base colour factor only", path.display(), m.name);
+            m.texture = None;
+            m.uvs.clear();
+        }
+    }
     for m in &scene.meshes {
         if let Some(v) = m.positions.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
             return Err(SceneError::NonFinite { path: path.to_path_buf(), mesh: m.name.clone(), vertex: v });

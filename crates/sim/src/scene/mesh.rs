@@ -1,5 +1,7 @@
-//! The scene's geometry: named meshes of triangles in the world frame.
+//! The scene's geometry: named meshes of triangles in the world frame, with their materials
+//! (a base colour factor and optionally a texture from the scene's table).
 
+use super::Texture;
 use serde::{Deserialize, Serialize};
 
 /// An axis-aligned box in the world frame (m).
@@ -29,7 +31,8 @@ impl Aabb {
     }
 }
 
-/// One mesh: triangles with a name (from the file's node/mesh) and a base colour.
+/// One mesh: triangles with a name (from the file's node/mesh), a base colour and optionally a
+/// base-colour texture with per-vertex texture coordinates.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Mesh {
     /// Node or mesh name as in the file ("" when unnamed).
@@ -38,11 +41,23 @@ pub struct Mesh {
     pub positions: Vec<[f32; 3]>,
     /// Triangles as indices into `positions`, counter-clockwise seen from outside.
     pub indices: Vec<[u32; 3]>,
-    /// Base colour, linear RGBA in [0, 1] (glTF baseColorFactor; grey when unknown).
+    /// Base colour, linear RGBA in [0, 1] (glTF baseColorFactor; grey when unknown); it
+    /// multiplies the texture's (decoded) colour.
     pub base_color: [f32; 4],
+    /// Texture coordinates of each vertex (glTF convention: (0, 0) top-left of the image, v
+    /// down); empty when the mesh has none, else as long as `positions`.
+    #[serde(default)]
+    pub uvs: Vec<[f32; 2]>,
+    /// Base-colour texture: an index into [`Scene::textures`]; used only when `uvs` is set.
+    #[serde(default)]
+    pub texture: Option<u32>,
 }
 
 impl Mesh {
+    /// An untextured mesh.
+    pub fn new(name: &str, positions: Vec<[f32; 3]>, indices: Vec<[u32; 3]>, base_color: [f32; 4]) -> Mesh {
+        Mesh { name: name.to_string(), positions, indices, base_color, uvs: Vec::new(), texture: None }
+    }
     /// The corners of triangle `t` (m).
     pub fn triangle(&self, t: usize) -> [[f32; 3]; 3] {
         let [a, b, c] = self.indices[t];
@@ -50,14 +65,23 @@ impl Mesh {
     }
 }
 
-/// A static scene: meshes in the world frame (REP-103, z up, metres).
+/// A static scene: meshes in the world frame (REP-103, z up, metres) and the textures they use.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Scene {
     /// The meshes.
     pub meshes: Vec<Mesh>,
+    /// Base-colour textures, each stored once and referred to by [`Mesh::texture`].
+    #[serde(default)]
+    pub textures: Vec<Texture>,
 }
 
 impl Scene {
+    /// The texture mesh `m` is drawn with: its texture when it has one (in range, with
+    /// consistent texels) and texture coordinates for every vertex; else `None` (the factor alone).
+    pub fn texture_of(&self, m: &Mesh) -> Option<&Texture> {
+        let t = self.textures.get(m.texture? as usize)?;
+        (t.is_consistent() && !m.uvs.is_empty() && m.uvs.len() == m.positions.len()).then_some(t)
+    }
     /// Number of triangles over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
@@ -92,7 +116,7 @@ impl Scene {
             [1, 2, 6], [1, 6, 5], // +x
             [3, 0, 4], [3, 4, 7], // -x
         ];
-        self.meshes.push(Mesh { name: name.to_string(), positions, indices, base_color: color });
+        self.meshes.push(Mesh::new(name, positions, indices, color));
     }
 }
 

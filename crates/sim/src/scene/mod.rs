@@ -2,13 +2,16 @@
 //!
 //! Loaders convert from each format's frame once, here at the boundary: glTF/GLB (y up,
 //! node transforms applied), OBJ and PLY (up axis is a load option), and the seeded
-//! procedural house that is the built-in default scene.
+//! procedural house that is the built-in default scene. Base-colour textures (glTF
+//! `baseColorTexture`, OBJ `map_Kd`) are decoded once into [`Scene::textures`].
 
 mod error;
 mod mesh;
+mod texture;
 
 pub use error::SceneError;
 pub use mesh::{Aabb, Mesh, Scene};
+pub use texture::{Texture, Wrap};
 
 use serde::{Deserialize, Serialize};
 
@@ -49,6 +52,7 @@ impl Default for LoadOptions {
 }
 
 mod from_gltf;
+mod gltf_texture;
 mod from_obj;
 mod from_ply;
 pub mod house;

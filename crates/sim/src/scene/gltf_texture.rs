@@ -1,0 +1,76 @@
+//! glTF base-colour textures: images read from buffer views, data URIs or files beside the
+//! .gltf, decoded once per (image, wrap modes) however many materials use them.
+
+use super::{SceneError, Texture, Wrap};
+use base64::Engine;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The textures of one glTF file, loaded on first use.
+pub(crate) struct GltfTextures<'a> {
+    /// The glTF file (for messages).
+    path: &'a Path,
+    /// Its folder, where relative URIs point.
+    base: PathBuf,
+    buffers: &'a [gltf::buffer::Data],
+    /// (image index, wrap s, wrap t) to the index in `textures`.
+    loaded: HashMap<(usize, Wrap, Wrap), u32>,
+    /// The decoded textures, in order of first use.
+    pub(crate) textures: Vec<Texture>,
+}
+
+impl<'a> GltfTextures<'a> {
+    pub(crate) fn new(path: &'a Path, buffers: &'a [gltf::buffer::Data]) -> Self {
+        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+        Self { path, base, buffers, loaded: HashMap::new(), textures: Vec::new() }
+    }
+
+    /// The index of `tex` in the scene's texture table, decoding its image on first use; the
+    /// error names the file, the mesh and the image.
+    pub(crate) fn get(&mut self, tex: &gltf::Texture, mesh: &str) -> Result<u32, SceneError> {
+        let sampler = tex.sampler();
+        let (ws, wt) = (Wrap::from_gltf(sampler.wrap_s()), Wrap::from_gltf(sampler.wrap_t()));
+        let image = tex.source();
+        let key = (image.index(), ws, wt);
+        if let Some(&i) = self.loaded.get(&key) {
+            return Ok(i);
+        }
+        let name = match image.source() {
+            gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => uri.to_string(),
+            _ => format!("image {}", image.index()),
+        };
+        let err = |reason: String| SceneError::Texture { path: self.path.to_path_buf(), mesh: mesh.to_string(), image: name.clone(), reason };
+        let bytes = self.bytes(&image.source()).map_err(err)?;
+        let t = Texture::decode(&name, &bytes, ws, wt).map_err(err)?;
+        let i = self.textures.len() as u32;
+        self.textures.push(t);
+        self.loaded.insert(key, i);
+        Ok(i)
+    }
+
+    /// The encoded bytes of an image.
+    fn bytes(&self, src: &gltf::image::Source) -> Result<Vec<u8>, String> {
+        match src {
+            gltf::image::Source::View { view, .. } => {
+                let buf = self.buffers.get(view.buffer().index()).ok_or("its buffer view refers to a missing buffer")?;
+                let (a, n) = (view.offset(), view.length());
+                buf.0.get(a..a.saturating_add(n)).map(|b| b.to_vec()).ok_or_else(|| {
+                    format!("its buffer view (bytes {a}..{}) lies outside its buffer ({} bytes)", a.saturating_add(n), buf.0.len())
+                })
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                if let Some(rest) = uri.strip_prefix("data:") {
+                    let (_, data) = rest.split_once(";base64,").ok_or("a data URI that is not base64")?;
+                    base64::engine::general_purpose::STANDARD.decode(data).map_err(|e| format!("bad base64 in its data URI: {e}"))
+                } else if uri.contains("://") && !uri.starts_with("file://") {
+                    Err("only files and data URIs are read, not network URIs".into())
+                } else {
+                    let rel = uri.strip_prefix("file://").unwrap_or(uri);
+                    let rel = urlencoding::decode(rel).map_err(|e| format!("bad percent-encoding in the URI: {e}"))?;
+                    let file = self.base.join(&*rel);
+                    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+                }
+            }
+        }
+    }
+}
