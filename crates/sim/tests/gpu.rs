@@ -12,7 +12,7 @@ use xhab_types::{DepthImage, Pose2};
 
 /// The renderer for `scene`, or `None` (after a loud SKIPPED line) when no adapter can be had
 /// and `XHAB_REQUIRE_GPU` is not 1.
-fn gpu(test: &str, scene: &Scene) -> Option<GpuRenderer> {
+pub fn gpu(test: &str, scene: &Scene) -> Option<GpuRenderer> {
     match GpuRenderer::new(scene) {
         Ok(g) => {
             eprintln!("{test}: adapter {}", g.adapter_info());

@@ -6,3 +6,4 @@ mod scenes;
 mod geodesic_closed_form;
 mod raster;
 mod gpu;
+mod textures;

@@ -7,3 +7,4 @@ mod raster;
 mod ros_interop;
 mod gpu;
 mod localization;
+mod textures;

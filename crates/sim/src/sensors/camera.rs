@@ -1,6 +1,7 @@
 //! Pinhole depth camera rendered by ray casting: one ray per pixel, rows in parallel.
 
 use super::raycast::RayScene;
+use super::surface::shade;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use xhab_types::{DepthImage, Intrinsics, Pose2};
@@ -35,8 +36,8 @@ impl CameraParams {
 }
 
 /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
-/// first): each pixel the base colour of the triangle hit, shaded by the angle of incidence;
-/// black where nothing is hit.
+/// first): each pixel the base colour at the point hit (factor times texture, sRGB), shaded by
+/// the angle of incidence ([`super::surface`]); black where nothing is hit.
 pub fn render_rgb(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
     let k = cam.intrinsics();
     let (s, c) = base.yaw.sin_cos();
@@ -48,10 +49,7 @@ pub fn render_rgb(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParam
             let x = (u as f64 - k.cx) / k.fx;
             let dir = [c + x * s, s - x * c, -y];
             if let Some((_, rgb, cos)) = scene.cast_color(origin, dir, cam.max_depth) {
-                let shade = 0.35 + 0.65 * cos;
-                for ch in 0..3 {
-                    row[u * 3 + ch] = (rgb[ch] as f64 * shade).round() as u8;
-                }
+                row[u * 3..u * 3 + 3].copy_from_slice(&shade(rgb, cos));
             }
         }
     });

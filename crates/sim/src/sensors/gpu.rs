@@ -2,7 +2,8 @@
 //! the ray caster ([`super::camera`]) and the CPU rasteriser ([`super::RasterScene`]).
 //!
 //! The scene is uploaded once: shared vertex positions with an index buffer for depth, and
-//! de-indexed triangles with their face normal and colour for RGB, both in the order of
+//! de-indexed triangles with their face normal, colour, texture coordinates and texture for
+//! RGB, both in the order of
 //! spatial clusters (Morton order of the centroids, 128 triangles each); per view only the
 //! clusters whose bounding box meets the view frustum are drawn. A batch of views is drawn
 //! in one submission into the layers of a 2D array texture (one render pass per layer, the
@@ -18,12 +19,20 @@
 //! fx`, `y = (v - cy) / fy`, principal point included in the matrix) at the centre of
 //! framebuffer pixel `(u, v)`. No face culling.
 //!
+//! Colour follows [`super::surface`] exactly: untextured triangles carry their sRGB colour;
+//! textured ones their linear factor, and the fragment shader samples the texture by hand
+//! (bilinear, wrap modes, the same sRGB table) from one storage buffer holding every texture's
+//! texels (RGBA8, one `u32` each) with a table of offsets, sizes and wrap modes, so the GPU's
+//! image agrees with the CPU renderers' to within rounding. Textures larger in all than the
+//! adapter's `max_storage_buffer_binding_size` are refused ([`GpuError::Textures`]).
+//!
 //! Without a GPU, Mesa's llvmpipe Vulkan driver (Debian package `mesa-vulkan-drivers`)
 //! renders on the CPU ([`GpuRenderer::is_software`]). Pipelines, targets and buffers are kept
 //! between calls; they are reallocated only for a new resolution or batch size.
 
 use super::camera::CameraParams;
-use crate::scene::Scene;
+use super::surface::{srgb_table, Surfaces};
+use crate::scene::{Scene, Wrap};
 use std::collections::HashMap;
 use std::sync::{mpsc, Arc, Mutex};
 use wgpu::util::DeviceExt;
@@ -57,6 +66,15 @@ pub enum GpuError {
     /// the adapter's limits).
     #[error("invalid camera for the GPU renderer: {0}")]
     Camera(String),
+    /// The scene's textures do not fit in one storage buffer binding of this adapter; render
+    /// with the CPU renderers, or use smaller textures.
+    #[error("the scene's textures ({bytes} bytes) exceed the adapter's storage buffer binding limit of {limit} bytes")]
+    Textures {
+        /// Bytes of texels (4 per texel).
+        bytes: u64,
+        /// The adapter's `max_storage_buffer_binding_size` (or `max_buffer_size`, if smaller).
+        limit: u64,
+    },
     /// wgpu reported a validation error (a bug in this renderer or a driver limit).
     #[error("wgpu validation error: {0}")]
     Validation(String),
@@ -159,6 +177,10 @@ pub struct GpuRenderer {
     flat_positions: wgpu::Buffer,
     flat_attrs: wgpu::Buffer,
     flat_count: u32,
+    /// Every texture's texels (RGBA8 as one `u32` each), their table and the sRGB table.
+    texels: wgpu::Buffer,
+    tex_table: wgpu::Buffer,
+    srgb: wgpu::Buffer,
     targets: Mutex<HashMap<(Kind, usize, usize, usize), Target>>,
     /// Spatial clusters of the triangles (in buffer order), for frustum culling per view.
     clusters: Vec<Cluster>,
@@ -177,6 +199,18 @@ struct View {
     origin: vec4<f32>,
 };
 @group(0) @binding(0) var<storage, read> views: array<View>;
+
+// A texture: first texel in `texels`, size (texels), wrap modes s | t << 8 (0 repeat, 1 clamp
+// to edge, 2 mirrored repeat).
+struct TexInfo {
+    offset: u32,
+    width: u32,
+    height: u32,
+    wrap: u32,
+};
+@group(0) @binding(1) var<storage, read> texels: array<u32>;
+@group(0) @binding(2) var<storage, read> textures: array<TexInfo>;
+@group(0) @binding(3) var<storage, read> srgb: array<f32, 256>;
 
 struct DepthOut {
     @builtin(position) pos: vec4<f32>,
@@ -203,10 +237,13 @@ struct RgbOut {
     @location(0) ray: vec3<f32>,
     @location(1) @interpolate(flat) n: vec3<f32>,
     @location(2) @interpolate(flat) c: vec3<f32>,
+    @location(3) uv: vec2<f32>,
+    @location(4) @interpolate(flat) tex: u32,
 };
 
 @vertex
 fn vs_rgb(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2) c: vec3<f32>,
+          @location(3) uv: vec2<f32>, @location(4) tex: u32,
           @builtin(instance_index) i: u32) -> RgbOut {
     let v = views[i];
     var out: RgbOut;
@@ -214,13 +251,84 @@ fn vs_rgb(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2) c: 
     out.ray = p - v.origin.xyz;
     out.n = n;
     out.c = c;
+    out.uv = uv;
+    out.tex = tex;
     return out;
+}
+
+// Texel index in 0..n of texel coordinate i under a wrap mode (as scene::Wrap::apply).
+fn wrap_index(i: i32, n: i32, mode: u32) -> i32 {
+    if mode == 1u {
+        return clamp(i, 0, n - 1);
+    }
+    if mode == 2u {
+        let p = 2 * n;
+        var k = i % p;
+        if k < 0 {
+            k += p;
+        }
+        if k >= n {
+            k = p - 1 - k;
+        }
+        return k;
+    }
+    var k = i % n;
+    if k < 0 {
+        k += n;
+    }
+    return k;
+}
+
+fn texel(t: TexInfo, x: i32, y: i32) -> vec3<f32> {
+    let p = texels[t.offset + u32(y) * t.width + u32(x)];
+    return vec3<f32>(srgb[p & 0xffu], srgb[(p >> 8u) & 0xffu], srgb[(p >> 16u) & 0xffu]);
+}
+
+// Linear RGB of texture t at uv: bilinear over wrapped texels (as surface::sample_bilinear).
+fn sample_tex(t: TexInfo, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv.x * f32(t.width) - 0.5;
+    let y = uv.y * f32(t.height) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let i = i32(x0);
+    let j = i32(y0);
+    let w = i32(t.width);
+    let h = i32(t.height);
+    let ws = t.wrap & 0xffu;
+    let wt = t.wrap >> 8u;
+    let xa = wrap_index(i, w, ws);
+    let xb = wrap_index(i + 1, w, ws);
+    let ya = wrap_index(j, h, wt);
+    let yb = wrap_index(j + 1, h, wt);
+    let top = texel(t, xa, ya) * (1.0 - fx) + texel(t, xb, ya) * fx;
+    let bottom = texel(t, xa, yb) * (1.0 - fx) + texel(t, xb, yb) * fx;
+    return top * (1.0 - fy) + bottom * fy;
+}
+
+// A linear value as an sRGB byte value 0..255 (as surface::linear_to_srgb_byte).
+fn srgb_byte(x: f32) -> f32 {
+    var c = 0.0;
+    if x > 0.0 {
+        c = min(x, 1.0);
+    }
+    var s = 12.92 * c;
+    if c > 0.0031308 {
+        s = 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+    }
+    return floor(s * 255.0 + 0.5);
 }
 
 @fragment
 fn fs_rgb(in: RgbOut) -> @location(0) vec4<f32> {
+    var c = in.c;
+    if in.tex != 0xffffffffu {
+        let lin = sample_tex(textures[in.tex], in.uv) * in.c;
+        c = vec3<f32>(srgb_byte(lin.x), srgb_byte(lin.y), srgb_byte(lin.z));
+    }
     let cos_i = abs(dot(in.n, normalize(in.ray)));
-    return vec4<f32>(round(in.c * (0.35 + 0.65 * cos_i)) / 255.0, 1.0);
+    return vec4<f32>(round(c * (0.35 + 0.65 * cos_i)) / 255.0, 1.0);
 }
 "#;
 
@@ -241,10 +349,16 @@ impl GpuRenderer {
     pub fn new(scene: &Scene) -> Result<GpuRenderer, GpuError> {
         // Gather the geometry first: an empty scene needs no device.
         let mut positions: Vec<[f32; 3]> = Vec::new();
-        // Triangles: corner indices into `positions`, normal (unit) and colour (bytes 0..255).
-        let mut tris: Vec<([u32; 3], [f32; 6])> = Vec::new();
-        for m in &scene.meshes {
-            let color = m.base_color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round());
+        // Triangles: corner indices into `positions` and their colour attributes.
+        let mut tris: Vec<([u32; 3], TriAttr)> = Vec::new();
+        let surfaces = Surfaces::new(scene);
+        for (k, m) in scene.meshes.iter().enumerate() {
+            let mat = &surfaces.materials[k];
+            // Textured: the linear factor; else the sRGB bytes (0..255).
+            let (color, tex) = match mat.texture {
+                Some(t) => (mat.factor, t),
+                None => (mat.flat.map(|b| b as f32), u32::MAX),
+            };
             let base = positions.len() as u32;
             positions.extend_from_slice(&m.positions);
             for t in &m.indices {
@@ -256,7 +370,8 @@ impl GpuRenderer {
                 let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
                 let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
                 let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
-                let attr = [(n[0] / l) as f32, (n[1] / l) as f32, (n[2] / l) as f32, color[0], color[1], color[2]];
+                let uv = if tex == u32::MAX { [[0.0; 2]; 3] } else { t.map(|i| m.uvs[i as usize]) };
+                let attr = TriAttr { n: [(n[0] / l) as f32, (n[1] / l) as f32, (n[2] / l) as f32], color, uv, tex };
                 tris.push((t.map(|i| i + base), attr));
             }
         }
@@ -266,7 +381,13 @@ impl GpuRenderer {
         let (tris, clusters) = cluster(&positions, tris);
         let indices: Vec<u32> = tris.iter().flat_map(|t| t.0).collect();
         let flat_pos: Vec<[f32; 3]> = tris.iter().flat_map(|t| t.0.map(|i| positions[i as usize])).collect();
-        let flat_attr: Vec<[f32; 6]> = tris.iter().flat_map(|t| [t.1; 3]).collect();
+        let mut flat_attr: Vec<u8> = Vec::with_capacity(tris.len() * 3 * TriAttr::VERTEX_BYTES as usize);
+        for (_, a) in &tris {
+            for corner in 0..3 {
+                a.write_vertex(corner, &mut flat_attr);
+            }
+        }
+        let (texel_bytes, tex_table) = texture_tables(&surfaces);
 
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::VULKAN,
@@ -288,6 +409,10 @@ impl GpuRenderer {
         let adapter = adapters.into_iter().next().ok_or(GpuError::NoAdapter)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
+        let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        if texel_bytes.len() as u64 > limit {
+            return Err(GpuError::Textures { bytes: texel_bytes.len() as u64, limit });
+        }
         let (device, queue) = block(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("xhab gpu camera"),
             required_features: wgpu::Features::empty(),
@@ -306,16 +431,16 @@ impl GpuRenderer {
         });
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("views"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
+            entries: &[0, 1, 2, 3].map(|binding| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: if binding == 0 { wgpu::ShaderStages::VERTEX } else { wgpu::ShaderStages::FRAGMENT },
                 ty: wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Storage { read_only: true },
                     has_dynamic_offset: false,
                     min_binding_size: None,
                 },
                 count: None,
-            }],
+            }),
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("camera"),
@@ -336,9 +461,9 @@ impl GpuRenderer {
             attributes: &wgpu::vertex_attr_array![0 => Float32x3],
         };
         let attr_layout = wgpu::VertexBufferLayout {
-            array_stride: 24,
+            array_stride: TriAttr::VERTEX_BYTES,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![1 => Float32x3, 2 => Float32x3],
+            attributes: &wgpu::vertex_attr_array![1 => Float32x3, 2 => Float32x3, 3 => Float32x2, 4 => Uint32],
         };
         let pipeline = |label: &str, vs: &str, fs: &str, buffers: &[Option<wgpu::VertexBufferLayout>], format| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -374,7 +499,11 @@ impl GpuRenderer {
         let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
         let indices_buf = buffer("indices", &index_bytes, wgpu::BufferUsages::INDEX);
         let flat_positions = buffer("triangle positions", &bytes(flat_pos.as_flattened()), vertex);
-        let flat_attrs = buffer("triangle normals and colours", &bytes(flat_attr.as_flattened()), vertex);
+        let flat_attrs = buffer("triangle normals, colours and texture coordinates", &flat_attr, vertex);
+        let storage = wgpu::BufferUsages::STORAGE;
+        let texels = buffer("texels", &texel_bytes, storage);
+        let tex_table = buffer("texture table", &tex_table, storage);
+        let srgb = buffer("srgb table", &bytes(srgb_table()), storage);
         check(block(oom.pop()))?;
         check(block(scope.pop()))?;
 
@@ -395,6 +524,9 @@ impl GpuRenderer {
             flat_positions,
             flat_attrs,
             flat_count: flat_pos.len() as u32,
+            texels,
+            tex_table,
+            srgb,
             targets: Mutex::new(HashMap::new()),
             clusters,
         })
@@ -435,9 +567,9 @@ impl GpuRenderer {
     }
 
     /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
-    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle
-    /// (sRGB-less bytes of the mesh's linear base colour) shaded by `0.35 + 0.65 |cos
-    /// incidence|`, black where nothing is seen within `max_depth`.
+    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle (factor
+    /// times texture, sRGB) shaded by `0.35 + 0.65 |cos incidence|` ([`super::surface`]),
+    /// black where nothing is seen within `max_depth`.
     pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<Vec<u8>, GpuError> {
         Ok(self.render_rgb_batch(&[(base, floor_z)], cam)?.remove(0))
     }
@@ -579,7 +711,12 @@ impl GpuRenderer {
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("views"),
             layout: &self.bind_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: views.as_entire_binding() }],
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: views.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: self.texels.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: self.tex_table.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: self.srgb.as_entire_binding() },
+            ],
         });
         let t = Target { layers, color, depth_view: depth.create_view(&Default::default()), padded_row, readback, views, bind_group };
         check(block(oom.pop()))?;
@@ -700,7 +837,7 @@ struct Cluster {
 
 /// Sorts the triangles by the Morton code of their centroids and cuts them into clusters of
 /// [`CLUSTER`] with their bounding boxes.
-fn cluster(positions: &[[f32; 3]], tris: Vec<([u32; 3], [f32; 6])>) -> (Vec<([u32; 3], [f32; 6])>, Vec<Cluster>) {
+fn cluster<T: Copy>(positions: &[[f32; 3]], tris: Vec<([u32; 3], T)>) -> (Vec<([u32; 3], T)>, Vec<Cluster>) {
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for t in &tris {
         for &i in &t.0 {
@@ -710,10 +847,10 @@ fn cluster(positions: &[[f32; 3]], tris: Vec<([u32; 3], [f32; 6])>) -> (Vec<([u3
             }
         }
     }
-    let code = |t: &([u32; 3], [f32; 6])| super::raster::morton_code(std::array::from_fn(|a| t.0.iter().map(|&i| positions[i as usize][a]).sum::<f32>() / 3.0), lo, hi);
+    let code = |t: &([u32; 3], T)| super::raster::morton_code(std::array::from_fn(|a| t.0.iter().map(|&i| positions[i as usize][a]).sum::<f32>() / 3.0), lo, hi);
     let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
     keyed.sort_unstable();
-    let tris: Vec<([u32; 3], [f32; 6])> = keyed.iter().map(|&(_, i)| tris[i]).collect();
+    let tris: Vec<([u32; 3], T)> = keyed.iter().map(|&(_, i)| tris[i]).collect();
     let clusters = (0..tris.len())
         .step_by(CLUSTER)
         .map(|start| {
@@ -731,4 +868,56 @@ fn cluster(positions: &[[f32; 3]], tris: Vec<([u32; 3], [f32; 6])>) -> (Vec<([u3
         })
         .collect();
     (tris, clusters)
+}
+
+/// The colour attributes of one triangle for the RGB pipeline.
+#[derive(Clone, Copy)]
+struct TriAttr {
+    /// Unit face normal (world).
+    n: [f32; 3],
+    /// sRGB bytes (0..255) when untextured, else the linear factor.
+    color: [f32; 3],
+    /// Texture coordinates of the corners.
+    uv: [[f32; 2]; 3],
+    /// Texture index, `u32::MAX` when untextured.
+    tex: u32,
+}
+
+impl TriAttr {
+    /// Bytes of one vertex: normal, colour, texture coordinates (f32) and texture (u32).
+    const VERTEX_BYTES: u64 = 36;
+
+    fn write_vertex(&self, corner: usize, out: &mut Vec<u8>) {
+        for v in self.n.iter().chain(&self.color).chain(&self.uv[corner]) {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&self.tex.to_le_bytes());
+    }
+}
+
+/// Every texture's texels back to back (RGBA8 bytes, 4 per texel: one `u32` each in the
+/// shader) and the table the shader reads: per texture its first texel, width, height and
+/// wrap modes (`s | t << 8`). Never empty (a storage binding must have a size).
+fn texture_tables(surfaces: &Surfaces) -> (Vec<u8>, Vec<u8>) {
+    let code = |w: Wrap| match w {
+        Wrap::Repeat => 0u32,
+        Wrap::ClampToEdge => 1,
+        Wrap::MirroredRepeat => 2,
+    };
+    let mut texels = Vec::with_capacity(surfaces.textures.iter().map(|t| t.rgba.len()).sum());
+    let mut table = Vec::new();
+    for t in &surfaces.textures {
+        let offset = (texels.len() / 4) as u32;
+        texels.extend_from_slice(&t.rgba);
+        for v in [offset, t.width, t.height, code(t.wrap_s) | code(t.wrap_t) << 8] {
+            table.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    if texels.is_empty() {
+        texels.resize(4, 0);
+    }
+    if table.is_empty() {
+        table.resize(16, 0);
+    }
+    (texels, table)
 }

@@ -8,6 +8,7 @@ pub mod lidar;
 pub mod raster;
 pub mod raycast;
 pub mod renderer;
+pub mod surface;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
 pub use camera_rig::{CameraFrame, CameraRig};

@@ -14,6 +14,7 @@
 //! triangle's plane, and a buffer keeps the nearest. Results do not depend on thread count.
 
 use super::camera::CameraParams;
+use super::surface::{barycentric, shade, SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
@@ -25,11 +26,10 @@ const NEAR: f32 = 1e-3;
 /// Column strips that one view is split into, rendered in parallel.
 const STRIPS: usize = 2;
 
-/// One scene triangle: corners in the world frame (m) and its mesh's colour (sRGB bytes).
+/// One scene triangle: corners in the world frame (m).
 #[derive(Clone, Copy)]
 struct Tri {
     v: [[f32; 3]; 3],
-    color: [u8; 3],
 }
 
 /// A run of triangles and its axis-aligned bounding box (world, m).
@@ -46,6 +46,10 @@ struct Cluster {
 pub struct RasterScene {
     tris: Vec<Tri>,
     clusters: Vec<Cluster>,
+    /// Texture coordinates and material of each triangle of `tris` (same order), for colour.
+    surf: Vec<SurfaceTri>,
+    /// The scene's materials and textures.
+    surfaces: Surfaces,
 }
 
 impl std::fmt::Debug for RasterScene {
@@ -289,11 +293,11 @@ impl RasterScene {
     pub fn new(scene: &Scene) -> Option<RasterScene> {
         let mut tris = Vec::with_capacity(scene.triangle_count());
         for m in &scene.meshes {
-            let c = m.base_color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
             for t in 0..m.indices.len() {
-                tris.push(Tri { v: m.triangle(t), color: [c[0], c[1], c[2]] });
+                tris.push(Tri { v: m.triangle(t) });
             }
         }
+        let surf = Surfaces::triangles(scene);
         if tris.is_empty() {
             return None;
         }
@@ -302,6 +306,7 @@ impl RasterScene {
         let mut keyed: Vec<(u64, usize)> = tris.iter().enumerate().map(|(i, t)| (code(t), i)).collect();
         keyed.sort_unstable();
         let tris: Vec<Tri> = keyed.iter().map(|&(_, i)| tris[i]).collect();
+        let surf: Vec<SurfaceTri> = keyed.iter().map(|&(_, i)| surf[i]).collect();
         let clusters = (0..tris.len())
             .step_by(CLUSTER)
             .map(|start| {
@@ -318,7 +323,7 @@ impl RasterScene {
                 Cluster { min, max, start: start as u32, end: end as u32 }
             })
             .collect();
-        Some(RasterScene { tris, clusters })
+        Some(RasterScene { tris, clusters, surf, surfaces: Surfaces::new(scene) })
     }
 
     /// Number of triangles.
@@ -513,13 +518,16 @@ impl RasterScene {
     }
 
     /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
-    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle shaded
-    /// by `0.35 + 0.65 |cos incidence|`, black where nothing is hit within `max_depth`.
+    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle at the
+    /// pixel's ray (factor times texture, the texture coordinates interpolated from where the
+    /// ray meets the triangle's plane, so perspective-correct) shaded by `0.35 + 0.65 |cos
+    /// incidence|` ([`super::surface`]), black where nothing is hit within `max_depth`.
     pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
         let (zb, ids) = self.render_strips::<true>(base, floor_z, cam, STRIPS);
         let far = cam.max_depth as f32;
         let k = cam.intrinsics();
         let (s, c) = base.yaw.sin_cos();
+        let origin = [base.x, base.y, floor_z + cam.mount_height];
         let mut data = vec![0u8; cam.width * cam.height * 3];
         data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
@@ -538,10 +546,8 @@ impl RasterScene {
                 let ln = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
                 let ld = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
                 let cos = ((n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]) / (ln * ld)).abs();
-                let shade = 0.35 + 0.65 * cos;
-                for ch in 0..3 {
-                    row[u * 3 + ch] = (t.color[ch] as f64 * shade).round() as u8;
-                }
+                let color = self.surfaces.color(&self.surf[id as usize], barycentric(&t.v, origin, dir));
+                row[u * 3..u * 3 + 3].copy_from_slice(&shade(color, cos));
             }
         });
         data

@@ -1,5 +1,6 @@
 //! The scene as a parry3d triangle mesh with its BVH, for ray casting (CPU reference path).
 
+use super::surface::{barycentric, SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use parry3d::math::Vector;
 use parry3d::query::{Ray, RayCast};
@@ -8,8 +9,10 @@ use parry3d::shape::{TriMesh, TriMeshFlags};
 /// The scene's triangles for ray queries, built once and shared (it is `Sync`).
 pub struct RayScene {
     mesh: TriMesh,
-    /// Base colour of each triangle (sRGB bytes).
-    colors: Vec<[u8; 3]>,
+    /// Texture coordinates and material of each triangle (in the mesh's order).
+    surf: Vec<SurfaceTri>,
+    /// The scene's materials and textures.
+    surfaces: Surfaces,
 }
 
 impl std::fmt::Debug for RayScene {
@@ -23,15 +26,13 @@ impl RayScene {
     pub fn new(scene: &Scene) -> Option<RayScene> {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
-        let mut colors = Vec::new();
         for m in &scene.meshes {
-            let c = m.base_color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
-            colors.extend(std::iter::repeat_n([c[0], c[1], c[2]], m.indices.len()));
             let base = vertices.len() as u32;
             vertices.extend(m.positions.iter().map(|p| Vector::new(p[0], p[1], p[2])));
             indices.extend(m.indices.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
         }
-        TriMesh::with_flags(vertices, indices, TriMeshFlags::empty()).ok().map(|mesh| RayScene { mesh, colors })
+        let (surf, surfaces) = (Surfaces::triangles(scene), Surfaces::new(scene));
+        TriMesh::with_flags(vertices, indices, TriMeshFlags::empty()).ok().map(|mesh| RayScene { mesh, surf, surfaces })
     }
 
     /// Distance along `dir` (in units of `dir`'s length) to the first hit from `origin`,
@@ -44,8 +45,9 @@ impl RayScene {
         self.mesh.cast_local_ray(&ray, max_t as f32, false).map(|t| t as f64)
     }
 
-    /// Like [`RayScene::cast`], with the hit triangle's base colour and the cosine between the
-    /// ray and the surface normal (for shading).
+    /// Like [`RayScene::cast`], with the base colour at the hit (sRGB bytes: the material's
+    /// factor times its texture, see [`super::surface`]) and the cosine between the ray and the
+    /// surface normal (for shading).
     pub fn cast_color(&self, origin: [f64; 3], dir: [f64; 3], max_t: f64) -> Option<(f64, [u8; 3], f64)> {
         let ray = Ray::new(
             Vector::new(origin[0] as f32, origin[1] as f32, origin[2] as f32),
@@ -53,7 +55,15 @@ impl RayScene {
         );
         let hit = self.mesh.cast_local_ray_and_get_normal(&ray, max_t as f32, false)?;
         // The hit's triangle is its sub-shape (its feature is only the triangle's side).
-        let color = self.colors.get(hit.subshape as usize).copied().unwrap_or([160, 160, 160]);
+        let t = hit.subshape as usize;
+        let color = match self.surf.get(t) {
+            Some(st) if t < self.mesh.indices().len() => {
+                let tri = self.mesh.triangle(t as u32);
+                let v = [tri.a, tri.b, tri.c].map(|p| [p.x, p.y, p.z]);
+                self.surfaces.color(st, barycentric(&v, origin, dir))
+            }
+            _ => [160, 160, 160],
+        };
         let l = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt().max(1e-12);
         let cos = ((hit.normal.x as f64 * dir[0] + hit.normal.y as f64 * dir[1] + hit.normal.z as f64 * dir[2]) / l).abs();
         Some((hit.time_of_impact as f64, color, cos))

@@ -1,0 +1,205 @@
+//! The colour of a surface point, one rule for every renderer (the wgpu shader mirrors it).
+//!
+//! A material is glTF's base colour: a linear RGB factor times, when the mesh has a texture,
+//! the texture sampled at the point's texture coordinates. Sampling follows glTF's default
+//! sampler without mipmaps: bilinear between the four nearest texels (centres at half-integer
+//! texel positions), each wrapped by the texture's wrap modes, after decoding the texels from
+//! sRGB to linear (a 256-entry table, shared with the GPU). The product is encoded back to
+//! sRGB bytes. A pixel is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the
+//! camera ray and the surface normal, rounded to bytes. Alpha is ignored (opaque materials).
+//! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
+//! byte wherever they see the same triangle.
+
+use crate::scene::{Scene, Texture};
+use std::sync::OnceLock;
+
+/// Per-triangle surface data: texture coordinates of the corners and the material (its mesh).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SurfaceTri {
+    /// Texture coordinates of the three corners (zero when untextured).
+    pub uv: [[f32; 2]; 3],
+    /// Index of the material (the mesh) in [`Surfaces`].
+    pub material: u32,
+}
+
+/// One mesh's material.
+#[derive(Clone, Debug)]
+pub(crate) struct Material {
+    /// Base colour factor, linear RGB in [0, 1].
+    pub factor: [f32; 3],
+    /// The factor alone as sRGB bytes (the colour when untextured).
+    pub flat: [u8; 3],
+    /// Index of the texture in [`Surfaces::textures`], when textured.
+    pub texture: Option<u32>,
+}
+
+/// The materials and textures of a scene, for the CPU renderers.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Surfaces {
+    /// One per mesh of the scene, in order.
+    pub materials: Vec<Material>,
+    /// The scene's textures.
+    pub textures: Vec<Texture>,
+}
+
+impl Surfaces {
+    /// The materials of `scene`'s meshes (a texture only where [`Scene::texture_of`] gives one).
+    pub fn new(scene: &Scene) -> Surfaces {
+        let materials = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let factor = [0, 1, 2].map(|i| m.base_color[i].clamp(0.0, 1.0));
+                let texture = scene.texture_of(m).and(m.texture);
+                Material { factor, flat: factor.map(linear_to_srgb_byte), texture }
+            })
+            .collect();
+        Surfaces { materials, textures: scene.textures.clone() }
+    }
+
+    /// Every triangle of `scene`, in the order of [`Scene::triangles`], with its surface data.
+    pub fn triangles(scene: &Scene) -> Vec<SurfaceTri> {
+        let mut out = Vec::with_capacity(scene.triangle_count());
+        for (k, m) in scene.meshes.iter().enumerate() {
+            let textured = scene.texture_of(m).is_some();
+            out.extend(m.indices.iter().map(|t| SurfaceTri {
+                uv: if textured { t.map(|i| m.uvs[i as usize]) } else { [[0.0; 2]; 3] },
+                material: k as u32,
+            }));
+        }
+        out
+    }
+
+    /// The base colour (sRGB bytes) of triangle `t` at barycentric weights `bary` of its corners.
+    pub fn color(&self, t: &SurfaceTri, bary: [f64; 3]) -> [u8; 3] {
+        let Some(m) = self.materials.get(t.material as usize) else { return [160; 3] };
+        let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return m.flat };
+        let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
+        let s = sample_bilinear(tex, uv);
+        [0, 1, 2].map(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
+    }
+}
+
+/// The sRGB-to-linear table: entry `b` is byte `b` decoded to linear [0, 1] (the GPU reads
+/// the same table).
+pub(crate) fn srgb_table() -> &'static [f32; 256] {
+    static TABLE: OnceLock<[f32; 256]> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        std::array::from_fn(|b| {
+            let c = b as f64 / 255.0;
+            (if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }) as f32
+        })
+    })
+}
+
+/// A linear value in [0, 1] (clamped; NaN reads 0) as an sRGB byte.
+pub fn linear_to_srgb_byte(x: f32) -> u8 {
+    let x = if x > 0.0 { x.min(1.0) } else { 0.0 };
+    let s = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    (s * 255.0).round() as u8
+}
+
+/// The texture's linear RGB at texture coordinates `uv` (bilinear, wrapped; see the module).
+pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
+    let lut = srgb_table();
+    let (w, h) = (t.width as i32, t.height as i32);
+    let x = uv[0] * t.width as f32 - 0.5;
+    let y = uv[1] * t.height as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (i, j) = (x0 as i32, y0 as i32);
+    let xs = [t.wrap_s.apply(i, w) as u32, t.wrap_s.apply(i.saturating_add(1), w) as u32];
+    let ys = [t.wrap_t.apply(j, h) as u32, t.wrap_t.apply(j.saturating_add(1), h) as u32];
+    let c = |x: u32, y: u32| t.texel(x, y).map(|b| lut[b as usize]);
+    let (c00, c10, c01, c11) = (c(xs[0], ys[0]), c(xs[1], ys[0]), c(xs[0], ys[1]), c(xs[1], ys[1]));
+    std::array::from_fn(|k| {
+        let top = c00[k] * (1.0 - fx) + c10[k] * fx;
+        let bottom = c01[k] * (1.0 - fx) + c11[k] * fx;
+        top * (1.0 - fy) + bottom * fy
+    })
+}
+
+/// Barycentric weights (of corners 0, 1, 2) of the point where the line `origin + t dir` meets
+/// the plane of triangle `v` (world, m); the centroid for a ray parallel to the plane or a
+/// degenerate triangle. Perspective-correct by construction.
+pub(crate) fn barycentric(v: &[[f32; 3]; 3], origin: [f64; 3], dir: [f64; 3]) -> [f64; 3] {
+    let a = v[0].map(|x| x as f64);
+    let sub = |p: [f32; 3]| [p[0] as f64 - a[0], p[1] as f64 - a[1], p[2] as f64 - a[2]];
+    let (e1, e2) = (sub(v[1]), sub(v[2]));
+    let n = cross(e1, e2);
+    let (denom, nn) = (dot(n, dir), dot(n, n));
+    let oa = [origin[0] - a[0], origin[1] - a[1], origin[2] - a[2]];
+    let t = -dot(n, oa) / denom;
+    let ap = [oa[0] + t * dir[0], oa[1] + t * dir[1], oa[2] + t * dir[2]];
+    let (b1, b2) = (dot(cross(ap, e2), n) / nn, dot(cross(e1, ap), n) / nn);
+    if !(b1.is_finite() && b2.is_finite()) {
+        return [1.0 / 3.0; 3];
+    }
+    [1.0 - b1 - b2, b1, b2]
+}
+
+/// A base colour (sRGB bytes) shaded by `0.35 + 0.65 cos`, `cos` in [0, 1] the absolute cosine
+/// between the camera ray and the surface normal.
+#[inline]
+pub(crate) fn shade(c: [u8; 3], cos: f64) -> [u8; 3] {
+    let s = 0.35 + 0.65 * cos;
+    c.map(|v| (v as f64 * s).round() as u8)
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Wrap;
+
+    fn checker() -> Texture {
+        // 2 x 2: white, black / black, white (sRGB bytes).
+        let w = [255, 255, 255, 255];
+        let b = [0, 0, 0, 255];
+        Texture { name: "c".into(), width: 2, height: 2, rgba: [w, b, b, w].concat(), wrap_s: Wrap::Repeat, wrap_t: Wrap::ClampToEdge }
+    }
+
+    #[test]
+    fn texel_centres_sample_exactly_and_midpoints_average_in_linear() {
+        let t = checker();
+        assert_eq!(sample_bilinear(&t, [0.25, 0.25]), [1.0; 3]);
+        assert_eq!(sample_bilinear(&t, [0.75, 0.25]), [0.0; 3]);
+        // Half way between a white and a black texel: linear 0.5, sRGB 188.
+        let mid = sample_bilinear(&t, [0.5, 0.25]);
+        assert!((mid[0] - 0.5).abs() < 1e-6, "{mid:?}");
+        assert_eq!(linear_to_srgb_byte(mid[0]), 188);
+        // Repeat along u: u = 1.25 is u = 0.25; clamp along v: v = -3 is the top row.
+        assert_eq!(sample_bilinear(&t, [1.25, 0.25]), [1.0; 3]);
+        assert_eq!(sample_bilinear(&t, [0.75, -3.0]), [0.0; 3]);
+        // Across the repeat seam, u = 0 mixes texels 1 and 0.
+        assert!((sample_bilinear(&t, [0.0, 0.25])[0] - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn srgb_round_trips_every_byte() {
+        for b in 0..=255u8 {
+            assert_eq!(linear_to_srgb_byte(srgb_table()[b as usize]), b);
+        }
+        assert_eq!(linear_to_srgb_byte(f32::NAN), 0);
+        assert_eq!(linear_to_srgb_byte(2.0), 255);
+    }
+
+    #[test]
+    fn barycentrics_of_corners_and_centroid() {
+        let v = [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+        let o = [0.0, 0.0, 0.0];
+        let b = barycentric(&v, o, [1.0, 0.0, 1.0]);
+        assert!((b[1] - 1.0).abs() < 1e-12 && b[0].abs() < 1e-12, "{b:?}");
+        let b = barycentric(&v, o, [1.0 / 3.0, 1.0 / 3.0, 1.0]);
+        assert!(b.iter().all(|x| (x - 1.0 / 3.0).abs() < 1e-12), "{b:?}");
+        // Parallel to the plane: the centroid, not NaN.
+        assert_eq!(barycentric(&v, o, [1.0, 0.0, 0.0]), [1.0 / 3.0; 3]);
+    }
+}
