@@ -21,7 +21,7 @@
 //!
 //! Colour follows [`super::surface`] exactly: untextured triangles carry their sRGB colour;
 //! textured ones their linear factor, and the fragment shader samples the texture by hand
-//! (bilinear, wrap modes, the same sRGB table) from one storage buffer holding every texture's
+//! (bilinear, wrap modes, the same sRGB tables) from one storage buffer holding every texture's
 //! texels (RGBA8, one `u32` each) with a table of offsets, sizes and wrap modes, so the GPU's
 //! image agrees with the CPU renderers' to within rounding. Textures larger in all than the
 //! adapter's `max_storage_buffer_binding_size` are refused ([`GpuError::Textures`]).
@@ -210,7 +210,8 @@ struct TexInfo {
 };
 @group(0) @binding(1) var<storage, read> texels: array<u32>;
 @group(0) @binding(2) var<storage, read> textures: array<TexInfo>;
-@group(0) @binding(3) var<storage, read> srgb: array<f32, 256>;
+// 0..256: sRGB byte to linear; 256 + k: the linear value where encoding steps from k to k + 1.
+@group(0) @binding(3) var<storage, read> srgb: array<f32, 512>;
 
 struct DepthOut {
     @builtin(position) pos: vec4<f32>,
@@ -307,17 +308,16 @@ fn sample_tex(t: TexInfo, uv: vec2<f32>) -> vec3<f32> {
     return top * (1.0 - fy) + bottom * fy;
 }
 
-// A linear value as an sRGB byte value 0..255 (as surface::linear_to_srgb_byte).
+// A linear value as an sRGB byte value 0..255 (as surface::linear_to_srgb_byte: a binary
+// search of the step thresholds).
 fn srgb_byte(x: f32) -> f32 {
-    var c = 0.0;
-    if x > 0.0 {
-        c = min(x, 1.0);
+    var c = 0u;
+    for (var s = 128u; s > 0u; s = s >> 1u) {
+        if c + s <= 255u && srgb[256u + c + s - 1u] <= x {
+            c += s;
+        }
     }
-    var s = 12.92 * c;
-    if c > 0.0031308 {
-        s = 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-    }
-    return floor(s * 255.0 + 0.5);
+    return f32(c);
 }
 
 @fragment

@@ -5,7 +5,8 @@
 //! sampler without mipmaps: bilinear between the four nearest texels (centres at half-integer
 //! texel positions), each wrapped by the texture's wrap modes, after decoding the texels from
 //! sRGB to linear (a 256-entry table, shared with the GPU). The product is encoded back to
-//! sRGB bytes. A pixel is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the
+//! sRGB bytes by a binary search in the table of the 255 linear values half way between
+//! consecutive bytes (also shared with the GPU, so no `pow` differs between them). A pixel is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the
 //! camera ray and the surface normal, rounded to bytes. Alpha is ignored (opaque materials).
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
@@ -80,23 +81,33 @@ impl Surfaces {
     }
 }
 
-/// The sRGB-to-linear table: entry `b` is byte `b` decoded to linear [0, 1] (the GPU reads
-/// the same table).
-pub(crate) fn srgb_table() -> &'static [f32; 256] {
-    static TABLE: OnceLock<[f32; 256]> = OnceLock::new();
+/// The sRGB tables the renderers share (the GPU reads the same 512 numbers): entries
+/// `0..256` are byte `b` decoded to linear [0, 1]; entries `256 + k`, `k < 255`, the linear
+/// value whose sRGB encoding is `(k + 0.5) / 255`, where rounding to bytes steps from `k` to
+/// `k + 1`; the last entry is unused (2).
+pub(crate) fn srgb_table() -> &'static [f32; 512] {
+    static TABLE: OnceLock<[f32; 512]> = OnceLock::new();
+    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
     TABLE.get_or_init(|| {
-        std::array::from_fn(|b| {
-            let c = b as f64 / 255.0;
-            (if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }) as f32
+        std::array::from_fn(|i| match i {
+            0..256 => decode(i as f64 / 255.0) as f32,
+            256..511 => decode((i - 256) as f64 / 255.0 + 0.5 / 255.0) as f32,
+            _ => 2.0,
         })
     })
 }
 
-/// A linear value in [0, 1] (clamped; NaN reads 0) as an sRGB byte.
+/// A linear value as an sRGB byte (the encoding rounded to the nearest byte; below 0 or NaN
+/// reads 0, above 1 reads 255): a binary search of the 255 linear values where rounding steps.
 pub fn linear_to_srgb_byte(x: f32) -> u8 {
-    let x = if x > 0.0 { x.min(1.0) } else { 0.0 };
-    let s = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
-    (s * 255.0).round() as u8
+    let steps = &srgb_table()[256..511];
+    let mut c = 0usize;
+    for s in [128, 64, 32, 16, 8, 4, 2, 1] {
+        if c + s <= 255 && steps[c + s - 1] <= x {
+            c += s;
+        }
+    }
+    c as u8
 }
 
 /// The texture's linear RGB at texture coordinates `uv` (bilinear, wrapped; see the module).
@@ -188,7 +199,16 @@ mod tests {
             assert_eq!(linear_to_srgb_byte(srgb_table()[b as usize]), b);
         }
         assert_eq!(linear_to_srgb_byte(f32::NAN), 0);
+        assert_eq!(linear_to_srgb_byte(-1.0), 0);
         assert_eq!(linear_to_srgb_byte(2.0), 255);
+        // The search agrees with the formula away from the rounding steps.
+        for i in 0..=1000 {
+            let x = i as f64 / 1000.0;
+            let s = if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 } * 255.0;
+            if (s - s.floor() - 0.5).abs() > 1e-3 {
+                assert_eq!(linear_to_srgb_byte(x as f32), s.round() as u8, "{x}");
+            }
+        }
     }
 
     #[test]
