@@ -546,7 +546,7 @@ impl RasterScene {
                 let ln = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
                 let ld = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
                 let cos = ((n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]) / (ln * ld)).abs();
-                let color = self.surfaces.color(&self.surf[id as usize], barycentric(&t.v, origin, dir));
+                let color = self.surfaces.color(&self.surf[id as usize], || barycentric(&t.v, origin, dir));
                 row[u * 3..u * 3 + 3].copy_from_slice(&shade(color, cos));
             }
         });

@@ -60,7 +60,7 @@ impl RayScene {
             Some(st) if t < self.mesh.indices().len() => {
                 let tri = self.mesh.triangle(t as u32);
                 let v = [tri.a, tri.b, tri.c].map(|p| [p.x, p.y, p.z]);
-                self.surfaces.color(st, barycentric(&v, origin, dir))
+                self.surfaces.color(st, || barycentric(&v, origin, dir))
             }
             _ => [160, 160, 160],
         };

@@ -71,10 +71,13 @@ impl Surfaces {
         out
     }
 
-    /// The base colour (sRGB bytes) of triangle `t` at barycentric weights `bary` of its corners.
-    pub fn color(&self, t: &SurfaceTri, bary: [f64; 3]) -> [u8; 3] {
+    /// The base colour (sRGB bytes) of triangle `t` at the barycentric weights of its corners
+    /// that `bary` gives (called only for textured triangles).
+    #[inline]
+    pub fn color(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3]) -> [u8; 3] {
         let Some(m) = self.materials.get(t.material as usize) else { return [160; 3] };
         let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return m.flat };
+        let bary = bary();
         let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
         let s = sample_bilinear(tex, uv);
         [0, 1, 2].map(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
