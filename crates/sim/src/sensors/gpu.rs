@@ -409,7 +409,7 @@ impl GpuRenderer {
         let adapter = adapters.into_iter().next().ok_or(GpuError::NoAdapter)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
-        let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         if texel_bytes.len() as u64 > limit {
             return Err(GpuError::Textures { bytes: texel_bytes.len() as u64, limit });
         }
