@@ -18,6 +18,8 @@ use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
+mod span;
+
 /// Triangles per cluster.
 const CLUSTER: usize = 96;
 /// Near plane for bounding boxes (m): surfaces closer than this may be missed.
@@ -441,6 +443,15 @@ impl RasterScene {
         }
     }
 
+    /// Rasterises `tris` into the whole view: depth alone by row spans, with ids per pixel.
+    fn draw<const ID: bool>(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
+        if ID {
+            Self::raster::<ID>(view, tris, 0, zb, ids);
+        } else {
+            span::raster_depth(view, tris, zb);
+        }
+    }
+
     /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
     /// of one view (or column strip), nearest clusters first with occlusion culling.
     fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
@@ -452,13 +463,13 @@ impl RasterScene {
         let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
         self.setup_clusters(view, &vis[..split], &mut tris);
-        Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
         if split < vis.len() {
             let hiz = HiZ::new(view, &zb);
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
             tris.clear();
             self.setup_clusters(view, &rest, &mut tris);
-            Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+            Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
         }
         (zb, ids)
     }
