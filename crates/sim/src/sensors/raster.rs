@@ -18,7 +18,10 @@ use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
+mod corners;
 mod span;
+
+use corners::{ClusterCorners, ViewCorners, MARGIN};
 
 /// Triangles per cluster.
 const CLUSTER: usize = 96;
@@ -48,6 +51,7 @@ struct Cluster {
 pub struct RasterScene {
     tris: Vec<Tri>,
     clusters: Vec<Cluster>,
+    corners: ClusterCorners,
 }
 
 impl std::fmt::Debug for RasterScene {
@@ -220,44 +224,48 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Sets up one camera-frame triangle, or `None` when it covers no pixel centre.
-#[inline(always)]
-fn setup(view: &View, p: [[f32; 3]; 3], id: u32) -> Option<Setup> {
-    let codes = [view.outcode(p[0]), view.outcode(p[1]), view.outcode(p[2])];
-    if codes[0] & codes[1] & codes[2] != 0 {
-        return None;
-    }
-    // Pixel bounding box of the part in front of the near plane.
+/// The pixel bounding box `[u0, u1, v0, v1]` of the part of camera-frame triangle `p` in front
+/// of the near plane, or `None` when none of it is.
+fn clipped_bbox(view: &View, p: [[f32; 3]; 3]) -> Option<[i32; 4]> {
     let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
     let mut add = |q: [f32; 3]| {
         let r = 1.0 / q[2];
-        let (x, y) = (q[0] * r, q[1] * r);
+        let (x, y) = (view.cx + view.fx * (q[0] * r), view.cy + view.fy * (q[1] * r));
         x0 = x0.min(x);
         x1 = x1.max(x);
         y0 = y0.min(y);
         y1 = y1.max(y);
     };
-    if (codes[0] | codes[1] | codes[2]) & 1 == 0 {
-        p.iter().for_each(|&q| add(q));
-    } else {
-        for i in 0..3 {
-            let (a, b) = (p[i], p[(i + 1) % 3]);
-            if a[2] >= NEAR {
-                add(a);
-            }
-            if (a[2] < NEAR) != (b[2] < NEAR) {
-                let t = (NEAR - a[2]) / (b[2] - a[2]);
-                add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
-            }
+    for i in 0..3 {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        if a[2] >= NEAR {
+            add(a);
+        }
+        if (a[2] < NEAR) != (b[2] < NEAR) {
+            let t = (NEAR - a[2]) / (b[2] - a[2]);
+            add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
         }
     }
-    const M: f32 = 0.01;
-    let (wm, hm) = (view.w as f32 - 1.0, view.h as f32 - 1.0);
-    let u0 = ceil_small((view.cx + view.fx * x0 - M).clamp(-1.0, view.w as f32));
-    let u1 = floor_small((view.cx + view.fx * x1 + M).clamp(-1.0, view.w as f32));
-    let v0 = ceil_small((view.cy + view.fy * y0 - M).clamp(-1.0, view.h as f32));
-    let v1 = floor_small((view.cy + view.fy * y1 + M).clamp(-1.0, view.h as f32));
-    let (u0, u1, v0, v1) = (u0.max(0), u1.min(wm as i32), v0.max(0), v1.min(hm as i32));
+    if x0 > x1 {
+        return None;
+    }
+    let (wm, hm) = (view.w as i32 - 1, view.h as i32 - 1);
+    Some([
+        ceil_small((x0 - MARGIN).clamp(-1.0, view.w as f32)).max(0),
+        floor_small((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
+        ceil_small((y0 - MARGIN).clamp(-1.0, view.h as f32)).max(0),
+        floor_small((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
+    ])
+}
+
+/// Sets up one camera-frame triangle `p` with pixel bounding box `bbox` (computed here when
+/// `None`), or `None` when it covers no pixel centre.
+#[inline(always)]
+fn setup(view: &View, p: [[f32; 3]; 3], bbox: Option<[i32; 4]>, id: u32) -> Option<Setup> {
+    let [u0, u1, v0, v1] = match bbox {
+        Some(b) => b,
+        None => clipped_bbox(view, p)?,
+    };
     if u0 > u1 || v0 > v1 {
         return None;
     }
@@ -320,7 +328,9 @@ impl RasterScene {
                 Cluster { min, max, start: start as u32, end: end as u32 }
             })
             .collect();
-        Some(RasterScene { tris, clusters })
+        let clusters: Vec<Cluster> = clusters;
+        let corners = ClusterCorners::new(&tris, &clusters);
+        Some(RasterScene { tris, clusters, corners })
     }
 
     /// Number of triangles.
@@ -366,14 +376,18 @@ impl RasterScene {
         vis
     }
 
-    /// Sets up the triangles of the clusters `vis`, appending to `out`.
-    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>) {
+    /// Sets up the triangles of the clusters `vis`, appending to `out`; `vc` is scratch.
+    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>, vc: &mut ViewCorners) {
         for v in vis {
             let cl = &self.clusters[v.idx as usize];
+            self.corners.to_view(v.idx as usize, view, vc);
             for id in cl.start..cl.end {
-                let t = &self.tris[id as usize];
-                let p = [view.to_cam(t.v[0]), view.to_cam(t.v[1]), view.to_cam(t.v[2])];
-                if let Some(s) = setup(view, p, id) {
+                let c = self.corners.tri[id as usize];
+                let Ok(bbox) = vc.bbox(c) else { continue };
+                if bbox.is_some_and(|[u0, u1, v0, v1]| u0 > u1 || v0 > v1) {
+                    continue;
+                }
+                if let Some(s) = setup(view, c.map(|i| vc.cam(i)), bbox, id) {
                     out.push(s);
                 }
             }
@@ -459,16 +473,17 @@ impl RasterScene {
         let mut zb = vec![1.0 / view.far; w * view.h];
         let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
         let mut tris = Vec::new();
+        let mut vc = ViewCorners::default();
         // The nearest clusters first; then the rest, less those behind what is drawn.
         let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
-        self.setup_clusters(view, &vis[..split], &mut tris);
+        self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
         Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
         if split < vis.len() {
             let hiz = HiZ::new(view, &zb);
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
             tris.clear();
-            self.setup_clusters(view, &rest, &mut tris);
+            self.setup_clusters(view, &rest, &mut tris, &mut vc);
             Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
         }
         (zb, ids)
