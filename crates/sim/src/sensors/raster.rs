@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
 mod corners;
+mod depth;
 mod span;
 
 use corners::{ClusterCorners, ViewCorners, MARGIN};
@@ -183,10 +184,11 @@ struct HiZ {
 }
 
 impl HiZ {
-    fn new(view: &View, zb: &[f32]) -> HiZ {
+    /// The tiles of the inverse depth `rows` (the view's image rows).
+    fn new<'a>(view: &View, rows: impl Iterator<Item = &'a [f32]>) -> HiZ {
         let tw = view.w.div_ceil(TILE);
         let mut min_inv = vec![f32::INFINITY; tw * view.h.div_ceil(TILE)];
-        for (v, row) in zb.chunks(view.w).enumerate() {
+        for (v, row) in rows.enumerate() {
             let t = &mut min_inv[v / TILE * tw..][..tw];
             for (i, chunk) in row.chunks(TILE).enumerate() {
                 t[i] = chunk.iter().fold(t[i], |m, &z| m.min(z));
@@ -292,6 +294,30 @@ fn setup(view: &View, p: [[f32; 3]; 3], bbox: Option<[i32; 4]>, id: u32) -> Opti
         bbox: [u0 as u16, u1 as u16, v0 as u16, v1 as u16],
         id,
     })
+}
+
+/// What a view is drawn into: an inverse depth buffer that keeps the nearest, and its tiles.
+trait Target {
+    /// Rasterises set-up triangles.
+    fn draw(&mut self, view: &View, tris: &[Setup]);
+    /// The farthest inverse depth drawn in each tile.
+    fn hiz(&self, view: &View) -> HiZ;
+}
+
+/// A whole view's inverse depth (rows of `view.w`) and, when `ID`, triangle ids.
+struct IdTarget<const ID: bool> {
+    zb: Vec<f32>,
+    ids: Vec<u32>,
+}
+
+impl<const ID: bool> Target for IdTarget<ID> {
+    fn draw(&mut self, view: &View, tris: &[Setup]) {
+        RasterScene::raster::<ID>(view, tris, 0, &mut self.zb, &mut self.ids);
+    }
+
+    fn hiz(&self, view: &View) -> HiZ {
+        HiZ::new(view, self.zb.chunks(view.w))
+    }
 }
 
 impl RasterScene {
@@ -457,36 +483,31 @@ impl RasterScene {
         }
     }
 
-    /// Rasterises `tris` into the whole view: depth alone by row spans, with ids per pixel.
-    fn draw<const ID: bool>(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
-        if ID {
-            Self::raster::<ID>(view, tris, 0, zb, ids);
-        } else {
-            span::raster_depth(view, tris, zb);
+    /// Draws the scene into `target`: the clusters in view, nearest first; after the nearest
+    /// quarter, those behind what is drawn over their whole rectangle are skipped.
+    fn render_view<T: Target>(&self, view: &View, target: &mut T) {
+        let mut tris = Vec::new();
+        let mut vc = ViewCorners::default();
+        let vis = self.visible(view);
+        let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
+        self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
+        target.draw(view, &tris);
+        if split < vis.len() {
+            let hiz = target.hiz(view);
+            let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
+            tris.clear();
+            self.setup_clusters(view, &rest, &mut tris, &mut vc);
+            target.draw(view, &tris);
         }
     }
 
     /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
-    /// of one view (or column strip), nearest clusters first with occlusion culling.
+    /// of one view (or column strip).
     fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
         let w = view.w;
-        let mut zb = vec![1.0 / view.far; w * view.h];
-        let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
-        let mut tris = Vec::new();
-        let mut vc = ViewCorners::default();
-        // The nearest clusters first; then the rest, less those behind what is drawn.
-        let vis = self.visible(view);
-        let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
-        self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
-        Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
-        if split < vis.len() {
-            let hiz = HiZ::new(view, &zb);
-            let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
-            tris.clear();
-            self.setup_clusters(view, &rest, &mut tris, &mut vc);
-            Self::draw::<ID>(view, &tris, &mut zb, &mut ids);
-        }
-        (zb, ids)
+        let mut t = IdTarget::<ID> { zb: vec![1.0 / view.far; w * view.h], ids: if ID { vec![u32::MAX; w * view.h] } else { Vec::new() } };
+        self.render_view(view, &mut t);
+        (t.zb, t.ids)
     }
 
     /// Inverse depth and triangle ids (when `ID`) of the whole image, rendered in `strips`
@@ -512,17 +533,6 @@ impl RasterScene {
             }
         }
         (zb, ids)
-    }
-
-    fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> DepthImage {
-        let (mut data, _) = self.render_strips::<false>(base, floor_z, cam, strips);
-        let far = cam.max_depth as f32;
-        let near_w = 1.0 / far;
-        for z in &mut data {
-            let d = 1.0 / *z;
-            *z = if *z > near_w && d <= far { d } else { 0.0 };
-        }
-        DepthImage { width: cam.width, height: cam.height, data }
     }
 
     /// Renders the depth image seen from the robot at `base` standing on the floor at

@@ -32,21 +32,19 @@ pub(super) fn row_span(t: &Setup, inv_e: &[f32; 3], cx: f32, yv: f32, u0: i32, u
     (lo <= hi).then_some((lo, hi))
 }
 
-/// Rasterises `tris` into the inverse depth buffer `zb` (1/m, rows of `view.w` pixels),
-/// keeping the nearest.
-pub(super) fn raster_depth(view: &View, tris: &[Setup], zb: &mut [f32]) {
-    let w = view.w;
+/// Rasterises `tris` into the inverse depth `rows` (1/m, the view's image rows), keeping the
+/// nearest.
+pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]]) {
     for t in tris {
         let [u0, u1, v0, v1] = t.bbox.map(|x| x as i32);
-        let [za, zb_, zc] = t.inv_z;
+        let [za, zb, zc] = t.inv_z;
         let inv_e = t.edges.map(|e| 1.0 / e[0]);
         for v in v0..=v1 {
             let yv = v as f32 - view.cy;
             let Some((lo, hi)) = row_span(t, &inv_e, view.cx, yv, u0, u1) else { continue };
-            let gz = zb_ * yv + zc;
+            let gz = zb * yv + zc;
             let x0 = lo as f32 - view.cx;
-            let row = &mut zb[v as usize * w..][lo as usize..=hi as usize];
-            for (i, z) in row.iter_mut().enumerate() {
+            for (i, z) in rows[v as usize][lo as usize..=hi as usize].iter_mut().enumerate() {
                 let iz = za * (x0 + i as i32 as f32) + gz;
                 *z = if iz > *z { iz } else { *z };
             }
