@@ -19,16 +19,17 @@ pub(super) fn row_span(t: &Setup, inv_e: &[f32; 3], cx: f32, yv: f32, u0: i32, u
     let (mut lo, mut hi_ex) = (u0 as f32, u1 as f32 + 1.0);
     for (e, ie) in t.edges.iter().zip(inv_e) {
         let g = e[1] * yv + e[2];
+        let b = cx - g * ie;
         if e[0] > 0.0 {
-            lo = lo.max(cx - g * ie);
+            lo = if b > lo { b } else { lo };
         } else if e[0] < 0.0 {
-            hi_ex = hi_ex.min(cx - g * ie);
+            hi_ex = if b < hi_ex { b } else { hi_ex };
         } else if !(g >= e[3]) {
             return None;
         }
     }
-    let lo = ceil_small(lo.min(u1 as f32 + 1.0));
-    let hi = ceil_small(hi_ex.max(u0 as f32)) - 1;
+    let lo = ceil_small(if lo < u1 as f32 + 1.0 { lo } else { u1 as f32 + 1.0 });
+    let hi = ceil_small(if hi_ex > u0 as f32 { hi_ex } else { u0 as f32 }) - 1;
     (lo <= hi).then_some((lo, hi))
 }
 
