@@ -2,16 +2,22 @@
 //! caster ([`super::camera`]), many times faster.
 //!
 //! Triangles are grouped into spatial clusters (Morton order of their centroids) with
-//! bounding boxes. Per view, clusters outside the frustum or beyond `max_depth` are culled and
-//! the rest sorted nearest first; the nearest quarter is drawn, then the others are drawn
-//! unless every 16 x 16 tile their rectangle covers is already nearer (hierarchical z). A
-//! single view is split into column strips rendered in parallel; a batch renders one view per
-//! task. Coverage uses homogeneous edge functions (the ray
-//! through a pixel centre hits the triangle iff it lies in the cone spanned by the camera-frame
-//! corners), so triangles crossing the camera plane need no clipping for coverage; only their
-//! pixel bounding box is taken from the part in front of a near plane. Ties on shared edges
-//! follow a top-left rule. Inverse depth (linear in the image) is interpolated from the
-//! triangle's plane, and a buffer keeps the nearest. Results do not depend on thread count.
+//! bounding boxes; each cluster also keeps its distinct corners (`corners.rs`), which a view
+//! transforms and projects once, in a vectorised loop, to reject triangles that are behind the
+//! near plane, beyond `max_depth` or cover no pixel centre before the full setup. Per view,
+//! clusters outside the frustum or beyond `max_depth` are culled and the rest sorted nearest
+//! first; the nearest quarter is drawn, then the others are drawn unless every 16 x 16 tile
+//! their rectangle covers is already nearer (hierarchical z). A single view is split into
+//! column strips rendered in parallel; a batch renders one view per task. Coverage uses
+//! homogeneous edge functions (the ray through a pixel centre hits the triangle iff it lies in
+//! the cone spanned by the camera-frame corners), so triangles crossing the camera plane need
+//! no clipping for coverage; only their pixel bounding box is taken from the part in front of
+//! a near plane. Ties on shared edges follow a top-left rule. Depth is drawn by row spans
+//! (`span.rs`: one crossing column per edge and row, computed so that the two triangles of a
+//! shared edge agree to the bit) straight into the strip's part of the image (`depth.rs`);
+//! colour tests the edges at every pixel and keeps triangle ids. Inverse depth (linear in the
+//! image) is interpolated from the triangle's plane, and a buffer keeps the nearest. Results
+//! do not depend on thread count.
 
 use super::camera::CameraParams;
 use crate::scene::Scene;
