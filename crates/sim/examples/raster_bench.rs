@@ -1,9 +1,11 @@
 //! Frames per second of the rasterised depth camera against the ray caster, on scene files.
 //!
-//! `cargo run --release -p xhab-sim --example raster_bench -- [SCENE.glb ...] [--seconds S]`
-//! (default: the two shared house scenes). Poses are 100 seeded navigable points with random
-//! headings; prints agreement with the ray caster (|diff| < 1 cm) and frames/s, single view
-//! (all threads on one image) and batched (16 views, one per task).
+//! `cargo run --release -p xhab-sim --example raster_bench -- [SCENE.glb ...] [--seconds S]
+//! [--frames N]` (default: the two shared house scenes). Poses are 100 seeded navigable points
+//! with random headings; prints agreement with the ray caster (|diff| < 1 cm) and frames/s,
+//! single view (all threads on one image) and batched (16 views, one per task). `--frames N`
+//! instead renders exactly N single views per scene and nothing else (no agreement check, no
+//! ray casting): a fixed workload for instruction counts (`valgrind --tool=callgrind`).
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,6 +22,11 @@ fn main() {
     let mut seconds = 3.0;
     if let Some(i) = args.iter().position(|a| a == "--seconds") {
         seconds = args[i + 1].parse().expect("--seconds S");
+        args.drain(i..i + 2);
+    }
+    let mut frames = None;
+    if let Some(i) = args.iter().position(|a| a == "--frames") {
+        frames = Some(args[i + 1].parse::<usize>().expect("--frames N"));
         args.drain(i..i + 2);
     }
     if args.is_empty() {
@@ -44,6 +51,12 @@ fn main() {
             })
             .collect();
         let cam = CameraParams::default();
+        if let Some(n) = frames {
+            let t = Instant::now();
+            let sink: f32 = (0..n).map(|i| rs.render_depth(views[i % views.len()].0, views[i % views.len()].1, &cam).data[1000]).sum();
+            println!("{path}: {n} frames in {:.3} s (checksum {sink})", t.elapsed().as_secs_f64());
+            continue;
+        }
         let (mut ok, mut all) = (0usize, 0usize);
         for &(pose, fz) in &views {
             let a = rs.render_depth(pose, fz, &cam);

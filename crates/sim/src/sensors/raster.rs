@@ -2,22 +2,34 @@
 //! caster ([`super::camera`]), many times faster.
 //!
 //! Triangles are grouped into spatial clusters (Morton order of their centroids) with
-//! bounding boxes. Per view, clusters outside the frustum or beyond `max_depth` are culled and
-//! the rest sorted nearest first; the nearest quarter is drawn, then the others are drawn
-//! unless every 16 x 16 tile their rectangle covers is already nearer (hierarchical z). A
-//! single view is split into column strips rendered in parallel; a batch renders one view per
-//! task. Coverage uses homogeneous edge functions (the ray
-//! through a pixel centre hits the triangle iff it lies in the cone spanned by the camera-frame
-//! corners), so triangles crossing the camera plane need no clipping for coverage; only their
-//! pixel bounding box is taken from the part in front of a near plane. Ties on shared edges
-//! follow a top-left rule. Inverse depth (linear in the image) is interpolated from the
-//! triangle's plane, and a buffer keeps the nearest. Results do not depend on thread count.
+//! bounding boxes; each cluster also keeps its distinct corners (`corners.rs`), which a view
+//! transforms and projects once, in a vectorised loop, to reject triangles that are behind the
+//! near plane, beyond `max_depth` or cover no pixel centre before the full setup. Per view,
+//! clusters outside the frustum or beyond `max_depth` are culled and the rest sorted nearest
+//! first; the nearest quarter is drawn, then the others are drawn unless every 16 x 16 tile
+//! their rectangle covers is already nearer (hierarchical z). A single view is split into
+//! column strips rendered in parallel; a batch renders one view per task. Coverage uses
+//! homogeneous edge functions (the ray through a pixel centre hits the triangle iff it lies in
+//! the cone spanned by the camera-frame corners), so triangles crossing the camera plane need
+//! no clipping for coverage; only their pixel bounding box is taken from the part in front of
+//! a near plane. Ties on shared edges follow a top-left rule. Depth is drawn by row spans
+//! (`span.rs`: one crossing column per edge and row, computed so that the two triangles of a
+//! shared edge agree to the bit) straight into the strip's part of the image (`depth.rs`);
+//! colour tests the edges at every pixel and keeps triangle ids. Inverse depth (linear in the
+//! image) is interpolated from the triangle's plane, and a buffer keeps the nearest. Results
+//! do not depend on thread count.
 
 use super::camera::CameraParams;
 use super::surface::{barycentric, shade, SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
+
+mod corners;
+mod depth;
+mod span;
+
+use corners::{ClusterCorners, ViewCorners, MARGIN};
 
 /// Triangles per cluster.
 const CLUSTER: usize = 96;
@@ -50,6 +62,7 @@ pub struct RasterScene {
     surf: Vec<SurfaceTri>,
     /// The scene's materials and textures.
     surfaces: Surfaces,
+    corners: ClusterCorners,
 }
 
 impl std::fmt::Debug for RasterScene {
@@ -181,10 +194,11 @@ struct HiZ {
 }
 
 impl HiZ {
-    fn new(view: &View, zb: &[f32]) -> HiZ {
+    /// The tiles of the inverse depth `rows` (the view's image rows).
+    fn new<'a>(view: &View, rows: impl Iterator<Item = &'a [f32]>) -> HiZ {
         let tw = view.w.div_ceil(TILE);
         let mut min_inv = vec![f32::INFINITY; tw * view.h.div_ceil(TILE)];
-        for (v, row) in zb.chunks(view.w).enumerate() {
+        for (v, row) in rows.enumerate() {
             let t = &mut min_inv[v / TILE * tw..][..tw];
             for (i, chunk) in row.chunks(TILE).enumerate() {
                 t[i] = chunk.iter().fold(t[i], |m, &z| m.min(z));
@@ -222,44 +236,48 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Sets up one camera-frame triangle, or `None` when it covers no pixel centre.
-#[inline(always)]
-fn setup(view: &View, p: [[f32; 3]; 3], id: u32) -> Option<Setup> {
-    let codes = [view.outcode(p[0]), view.outcode(p[1]), view.outcode(p[2])];
-    if codes[0] & codes[1] & codes[2] != 0 {
-        return None;
-    }
-    // Pixel bounding box of the part in front of the near plane.
+/// The pixel bounding box `[u0, u1, v0, v1]` of the part of camera-frame triangle `p` in front
+/// of the near plane, or `None` when none of it is.
+fn clipped_bbox(view: &View, p: [[f32; 3]; 3]) -> Option<[i32; 4]> {
     let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
     let mut add = |q: [f32; 3]| {
         let r = 1.0 / q[2];
-        let (x, y) = (q[0] * r, q[1] * r);
+        let (x, y) = (view.cx + view.fx * (q[0] * r), view.cy + view.fy * (q[1] * r));
         x0 = x0.min(x);
         x1 = x1.max(x);
         y0 = y0.min(y);
         y1 = y1.max(y);
     };
-    if (codes[0] | codes[1] | codes[2]) & 1 == 0 {
-        p.iter().for_each(|&q| add(q));
-    } else {
-        for i in 0..3 {
-            let (a, b) = (p[i], p[(i + 1) % 3]);
-            if a[2] >= NEAR {
-                add(a);
-            }
-            if (a[2] < NEAR) != (b[2] < NEAR) {
-                let t = (NEAR - a[2]) / (b[2] - a[2]);
-                add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
-            }
+    for i in 0..3 {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        if a[2] >= NEAR {
+            add(a);
+        }
+        if (a[2] < NEAR) != (b[2] < NEAR) {
+            let t = (NEAR - a[2]) / (b[2] - a[2]);
+            add([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), NEAR]);
         }
     }
-    const M: f32 = 0.01;
-    let (wm, hm) = (view.w as f32 - 1.0, view.h as f32 - 1.0);
-    let u0 = ceil_small((view.cx + view.fx * x0 - M).clamp(-1.0, view.w as f32));
-    let u1 = floor_small((view.cx + view.fx * x1 + M).clamp(-1.0, view.w as f32));
-    let v0 = ceil_small((view.cy + view.fy * y0 - M).clamp(-1.0, view.h as f32));
-    let v1 = floor_small((view.cy + view.fy * y1 + M).clamp(-1.0, view.h as f32));
-    let (u0, u1, v0, v1) = (u0.max(0), u1.min(wm as i32), v0.max(0), v1.min(hm as i32));
+    if x0 > x1 {
+        return None;
+    }
+    let (wm, hm) = (view.w as i32 - 1, view.h as i32 - 1);
+    Some([
+        ceil_small((x0 - MARGIN).clamp(-1.0, view.w as f32)).max(0),
+        floor_small((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
+        ceil_small((y0 - MARGIN).clamp(-1.0, view.h as f32)).max(0),
+        floor_small((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
+    ])
+}
+
+/// Sets up one camera-frame triangle `p` with pixel bounding box `bbox` (computed here when
+/// `None`), or `None` when it covers no pixel centre.
+#[inline(always)]
+fn setup(view: &View, p: [[f32; 3]; 3], bbox: Option<[i32; 4]>, id: u32) -> Option<Setup> {
+    let [u0, u1, v0, v1] = match bbox {
+        Some(b) => b,
+        None => clipped_bbox(view, p)?,
+    };
     if u0 > u1 || v0 > v1 {
         return None;
     }
@@ -286,6 +304,30 @@ fn setup(view: &View, p: [[f32; 3]; 3], id: u32) -> Option<Setup> {
         bbox: [u0 as u16, u1 as u16, v0 as u16, v1 as u16],
         id,
     })
+}
+
+/// What a view is drawn into: an inverse depth buffer that keeps the nearest, and its tiles.
+trait Target {
+    /// Rasterises set-up triangles.
+    fn draw(&mut self, view: &View, tris: &[Setup]);
+    /// The farthest inverse depth drawn in each tile.
+    fn hiz(&self, view: &View) -> HiZ;
+}
+
+/// A whole view's inverse depth (rows of `view.w`) and, when `ID`, triangle ids.
+struct IdTarget<const ID: bool> {
+    zb: Vec<f32>,
+    ids: Vec<u32>,
+}
+
+impl<const ID: bool> Target for IdTarget<ID> {
+    fn draw(&mut self, view: &View, tris: &[Setup]) {
+        RasterScene::raster::<ID>(view, tris, 0, &mut self.zb, &mut self.ids);
+    }
+
+    fn hiz(&self, view: &View) -> HiZ {
+        HiZ::new(view, self.zb.chunks(view.w))
+    }
 }
 
 impl RasterScene {
@@ -323,7 +365,9 @@ impl RasterScene {
                 Cluster { min, max, start: start as u32, end: end as u32 }
             })
             .collect();
-        Some(RasterScene { tris, clusters, surf, surfaces: Surfaces::new(scene) })
+        let clusters: Vec<Cluster> = clusters;
+        let corners = ClusterCorners::new(&tris, &clusters);
+        Some(RasterScene { tris, clusters, surf, surfaces: Surfaces::new(scene), corners })
     }
 
     /// Number of triangles.
@@ -369,14 +413,18 @@ impl RasterScene {
         vis
     }
 
-    /// Sets up the triangles of the clusters `vis`, appending to `out`.
-    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>) {
+    /// Sets up the triangles of the clusters `vis`, appending to `out`; `vc` is scratch.
+    fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>, vc: &mut ViewCorners) {
         for v in vis {
             let cl = &self.clusters[v.idx as usize];
+            self.corners.to_view(v.idx as usize, view, vc);
             for id in cl.start..cl.end {
-                let t = &self.tris[id as usize];
-                let p = [view.to_cam(t.v[0]), view.to_cam(t.v[1]), view.to_cam(t.v[2])];
-                if let Some(s) = setup(view, p, id) {
+                let c = self.corners.tri[id as usize];
+                let Ok(bbox) = vc.bbox(c) else { continue };
+                if bbox.is_some_and(|[u0, u1, v0, v1]| u0 > u1 || v0 > v1) {
+                    continue;
+                }
+                if let Some(s) = setup(view, c.map(|i| vc.cam(i)), bbox, id) {
                     out.push(s);
                 }
             }
@@ -446,26 +494,31 @@ impl RasterScene {
         }
     }
 
-    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
-    /// of one view (or column strip), nearest clusters first with occlusion culling.
-    fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
-        let w = view.w;
-        let mut zb = vec![1.0 / view.far; w * view.h];
-        let mut ids = if ID { vec![u32::MAX; w * view.h] } else { Vec::new() };
+    /// Draws the scene into `target`: the clusters in view, nearest first; after the nearest
+    /// quarter, those behind what is drawn over their whole rectangle are skipped.
+    fn render_view<T: Target>(&self, view: &View, target: &mut T) {
         let mut tris = Vec::new();
-        // The nearest clusters first; then the rest, less those behind what is drawn.
+        let mut vc = ViewCorners::default();
         let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
-        self.setup_clusters(view, &vis[..split], &mut tris);
-        Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+        self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
+        target.draw(view, &tris);
         if split < vis.len() {
-            let hiz = HiZ::new(view, &zb);
+            let hiz = target.hiz(view);
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
             tris.clear();
-            self.setup_clusters(view, &rest, &mut tris);
-            Self::raster::<ID>(view, &tris, 0, &mut zb, &mut ids);
+            self.setup_clusters(view, &rest, &mut tris, &mut vc);
+            target.draw(view, &tris);
         }
-        (zb, ids)
+    }
+
+    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
+    /// of one view (or column strip).
+    fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
+        let w = view.w;
+        let mut t = IdTarget::<ID> { zb: vec![1.0 / view.far; w * view.h], ids: if ID { vec![u32::MAX; w * view.h] } else { Vec::new() } };
+        self.render_view(view, &mut t);
+        (t.zb, t.ids)
     }
 
     /// Inverse depth and triangle ids (when `ID`) of the whole image, rendered in `strips`
@@ -491,17 +544,6 @@ impl RasterScene {
             }
         }
         (zb, ids)
-    }
-
-    fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> DepthImage {
-        let (mut data, _) = self.render_strips::<false>(base, floor_z, cam, strips);
-        let far = cam.max_depth as f32;
-        let near_w = 1.0 / far;
-        for z in &mut data {
-            let d = 1.0 / *z;
-            *z = if *z > near_w && d <= far { d } else { 0.0 };
-        }
-        DepthImage { width: cam.width, height: cam.height, data }
     }
 
     /// Renders the depth image seen from the robot at `base` standing on the floor at
