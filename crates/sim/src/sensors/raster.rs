@@ -314,15 +314,15 @@ trait Target {
     fn hiz(&self, view: &View) -> HiZ;
 }
 
-/// A whole view's inverse depth (rows of `view.w`) and, when `ID`, triangle ids.
-struct IdTarget<const ID: bool> {
+/// A whole view's inverse depth (rows of `view.w`) and the triangle id at each pixel (for colour).
+struct IdTarget {
     zb: Vec<f32>,
     ids: Vec<u32>,
 }
 
-impl<const ID: bool> Target for IdTarget<ID> {
+impl Target for IdTarget {
     fn draw(&mut self, view: &View, tris: &[Setup]) {
-        RasterScene::raster::<ID>(view, tris, 0, &mut self.zb, &mut self.ids);
+        RasterScene::raster_ids(view, tris, &mut self.zb, &mut self.ids);
     }
 
     fn hiz(&self, view: &View) -> HiZ {
@@ -349,7 +349,7 @@ impl RasterScene {
         keyed.sort_unstable();
         let tris: Vec<Tri> = keyed.iter().map(|&(_, i)| tris[i]).collect();
         let surf: Vec<SurfaceTri> = keyed.iter().map(|&(_, i)| surf[i]).collect();
-        let clusters = (0..tris.len())
+        let clusters: Vec<Cluster> = (0..tris.len())
             .step_by(CLUSTER)
             .map(|start| {
                 let end = (start + CLUSTER).min(tris.len());
@@ -365,7 +365,6 @@ impl RasterScene {
                 Cluster { min, max, start: start as u32, end: end as u32 }
             })
             .collect();
-        let clusters: Vec<Cluster> = clusters;
         let corners = ClusterCorners::new(&tris, &clusters);
         Some(RasterScene { tris, clusters, surf, surfaces: Surfaces::new(scene), corners })
     }
@@ -431,17 +430,13 @@ impl RasterScene {
         }
     }
 
-    /// Rasterises `tris` into the rows `r0..` of inverse depth `zb` (and triangle ids `ids`
-    /// when `ID`), keeping the nearest.
-    fn raster<const ID: bool>(view: &View, tris: &[Setup], r0: usize, zb: &mut [f32], ids: &mut [u32]) {
+    /// Rasterises `tris` into the view's inverse depth `zb` and triangle ids `ids` (rows of
+    /// `view.w`), keeping the nearest; every pixel is tested against the edges (depth alone
+    /// goes by row spans, `span.rs`).
+    fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
         let w = view.w;
-        let r1 = r0 + zb.len() / w;
         for t in tris {
             let [u0, u1, v0, v1] = t.bbox.map(|x| x as usize);
-            let (v0, v1) = (v0.max(r0), v1.min(r1 - 1));
-            if v0 > v1 {
-                continue;
-            }
             let [e0, e1, e2] = t.edges;
             let [za, zb_, zc] = t.inv_z;
             for v in v0..=v1 {
@@ -468,26 +463,17 @@ impl RasterScene {
                 if u0 > u1 {
                     continue;
                 }
-                let row = (v - r0) * w;
+                let row = v * w;
                 let zrow = &mut zb[row + u0..=row + u1];
                 let x0 = u0 as f32 - view.cx;
-                if ID {
-                    let irow = &mut ids[row + u0..=row + u1];
-                    for (i, (z, id)) in zrow.iter_mut().zip(irow.iter_mut()).enumerate() {
-                        let xu = x0 + i as i32 as f32;
-                        let iz = za * xu + gz;
-                        let inside = e0[0] * xu + g0 >= e0[3] && e1[0] * xu + g1 >= e1[3] && e2[0] * xu + g2 >= e2[3];
-                        if inside && iz > *z {
-                            *z = iz;
-                            *id = t.id;
-                        }
-                    }
-                } else {
-                    for (i, z) in zrow.iter_mut().enumerate() {
-                        let xu = x0 + i as i32 as f32;
-                        let iz = za * xu + gz;
-                        let inside = (e0[0] * xu + g0 >= e0[3]) & (e1[0] * xu + g1 >= e1[3]) & (e2[0] * xu + g2 >= e2[3]);
-                        *z = if inside & (iz > *z) { iz } else { *z };
+                let irow = &mut ids[row + u0..=row + u1];
+                for (i, (z, id)) in zrow.iter_mut().zip(irow.iter_mut()).enumerate() {
+                    let xu = x0 + i as i32 as f32;
+                    let iz = za * xu + gz;
+                    let inside = e0[0] * xu + g0 >= e0[3] && e1[0] * xu + g1 >= e1[3] && e2[0] * xu + g2 >= e2[3];
+                    if inside && iz > *z {
+                        *z = iz;
+                        *id = t.id;
                     }
                 }
             }
@@ -512,35 +498,33 @@ impl RasterScene {
         }
     }
 
-    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (when `ID`)
-    /// of one view (or column strip).
-    fn render_inv<const ID: bool>(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
-        let w = view.w;
-        let mut t = IdTarget::<ID> { zb: vec![1.0 / view.far; w * view.h], ids: if ID { vec![u32::MAX; w * view.h] } else { Vec::new() } };
+    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids of one view
+    /// (or column strip).
+    fn render_inv(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
+        let n = view.w * view.h;
+        let mut t = IdTarget { zb: vec![1.0 / view.far; n], ids: vec![u32::MAX; n] };
         self.render_view(view, &mut t);
         (t.zb, t.ids)
     }
 
-    /// Inverse depth and triangle ids (when `ID`) of the whole image, rendered in `strips`
-    /// column strips in parallel.
-    fn render_strips<const ID: bool>(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> (Vec<f32>, Vec<u32>) {
+    /// Inverse depth and triangle ids of the whole image, rendered in `strips` column strips
+    /// in parallel.
+    fn render_strips(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> (Vec<f32>, Vec<u32>) {
         let (w, h) = (cam.width, cam.height);
         let strips = strips.clamp(1, w.max(1));
         if strips == 1 {
-            return self.render_inv::<ID>(&View::new(base, floor_z, cam, 0, w));
+            return self.render_inv(&View::new(base, floor_z, cam, 0, w));
         }
         let edges: Vec<usize> = (0..=strips).map(|i| i * w / strips).collect();
         let parts: Vec<(Vec<f32>, Vec<u32>)> =
-            (0..strips).into_par_iter().map(|i| self.render_inv::<ID>(&View::new(base, floor_z, cam, edges[i], edges[i + 1]))).collect();
+            (0..strips).into_par_iter().map(|i| self.render_inv(&View::new(base, floor_z, cam, edges[i], edges[i + 1]))).collect();
         let mut zb = vec![0f32; w * h];
-        let mut ids = if ID { vec![0u32; w * h] } else { Vec::new() };
+        let mut ids = vec![0u32; w * h];
         for (i, (z, id)) in parts.iter().enumerate() {
             let (c0, sw) = (edges[i], edges[i + 1] - edges[i]);
             for v in 0..h {
                 zb[v * w + c0..][..sw].copy_from_slice(&z[v * sw..][..sw]);
-                if ID {
-                    ids[v * w + c0..][..sw].copy_from_slice(&id[v * sw..][..sw]);
-                }
+                ids[v * w + c0..][..sw].copy_from_slice(&id[v * sw..][..sw]);
             }
         }
         (zb, ids)
@@ -565,7 +549,7 @@ impl RasterScene {
     /// ray meets the triangle's plane, so perspective-correct) shaded by `0.35 + 0.65 |cos
     /// incidence|` ([`super::surface`]), black where nothing is hit within `max_depth`.
     pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
-        let (zb, ids) = self.render_strips::<true>(base, floor_z, cam, STRIPS);
+        let (zb, ids) = self.render_strips(base, floor_z, cam, STRIPS);
         let far = cam.max_depth as f32;
         let k = cam.intrinsics();
         let (s, c) = base.yaw.sin_cos();
