@@ -96,12 +96,17 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
             })
         })
         .collect::<Result<_>>()?;
+    // Each episode's start (its goal field included) is built once and cloned for every run.
+    let starts: Vec<Env> = episodes.iter().filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).collect();
+    if starts.is_empty() {
+        anyhow::bail!("no valid episode to step (no sampled start reaches its goal)");
+    }
     let mut act_rng = ChaCha8Rng::seed_from_u64(11);
     let (mut steps, mut step_s) = (0u64, 0.0);
     let (mut osteps, mut ostep_s) = (0u64, 0.0);
     while step_s + ostep_s < a.seconds {
-        for ep in &episodes {
-            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+        for start in &starts {
+            let mut env = start.clone();
             let actions: Vec<Action> = (0..500)
                 .map(|_| random_action(&mut act_rng))
                 .collect();
@@ -113,7 +118,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
             step_s += t.elapsed().as_secs_f64();
             steps += actions.len() as u64;
 
-            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+            let mut env = start.clone();
             let mut oracle = ShortestPathFollower::new();
             let t = Instant::now();
             while !env.is_done() {
@@ -140,7 +145,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         "checksum": checksum,
     });
     if !a.sensors.is_empty() {
-        let sp = sensor_perf(&world, &grid, &episodes, a)?;
+        let sp = sensor_perf(&world, &starts, a)?;
         if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), sp) {
             m.extend(p);
         }
@@ -214,7 +219,7 @@ fn physics_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>
 
 /// Discrete steps that render the camera at every step (`--sensors depth[,rgb]`), and with
 /// `--batch N` views rendered N at a time (N agents stepping together).
-fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>, episodes: &[Episode], a: &PerfArgs) -> Result<serde_json::Value> {
+fn sensor_perf(world: &World, starts: &[Env], a: &PerfArgs) -> Result<serde_json::Value> {
     for s in &a.sensors {
         if s != "depth" && s != "rgb" {
             anyhow::bail!("--sensors: unknown sensor '{s}' (depth, rgb)");
@@ -229,16 +234,17 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
     let (mut steps, mut s) = (0u64, 0.0);
     let mut checksum = 0.0f64;
     while s < a.seconds {
-        for ep in episodes {
-            let Ok(mut env) = Env::new(grid.clone(), ep, TaskConfig::default()) else { continue };
+        for start in starts {
+            let mut env = start.clone();
+            let floor_z = env.grid().floor_z;
             let t = Instant::now();
             for _ in 0..50 {
                 let act = random_action(&mut act_rng);
                 env.step(act);
-                let img = r.depth(env.pose(), grid.floor_z, &cam)?;
+                let img = r.depth(env.pose(), floor_z, &cam)?;
                 checksum += img.data[img.data.len() / 2] as f64;
                 if rgb {
-                    checksum += r.rgb(env.pose(), grid.floor_z, &cam)?[0] as f64;
+                    checksum += r.rgb(env.pose(), floor_z, &cam)?[0] as f64;
                 }
             }
             s += t.elapsed().as_secs_f64();
@@ -259,17 +265,14 @@ fn sensor_perf(world: &World, grid: &std::sync::Arc<xhab_sim::navgrid::NavGrid>,
     });
     if let Some(n) = a.camera.batch.filter(|&n| n > 0) {
         // N agents, each stepping its own episode; their N views rendered in one call.
-        let mut envs: Vec<Env> = episodes.iter().cycle().take(episodes.len().max(1) * n).filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).take(n).collect();
-        if envs.is_empty() {
-            anyhow::bail!("--batch: no valid episode to place the agents");
-        }
+        let mut envs: Vec<Env> = starts.iter().cycle().take(n).cloned().collect();
         let (mut views_done, mut s) = (0u64, 0.0);
         while s < a.seconds {
             let t = Instant::now();
             for _ in 0..20 {
                 let views: Vec<(xhab_types::Pose2, f64)> = envs.iter_mut().map(|e| {
                     e.step(random_action(&mut act_rng));
-                    (e.pose(), grid.floor_z)
+                    (e.pose(), e.grid().floor_z)
                 }).collect();
                 let imgs = r.depth_batch(&views, &cam)?;
                 checksum += imgs.iter().map(|i| i.data[i.data.len() / 2] as f64).sum::<f64>();
