@@ -75,7 +75,7 @@ fn walls_closer_than_the_image_edges_are_clipped_not_dropped() {
 }
 
 #[test]
-fn rendering_is_deterministic_single_batched_and_on_one_thread() {
+fn rendering_is_deterministic_single_batched_on_one_thread_and_with_colour() {
     let scene = default_house(5);
     let rs = RasterScene::new(&scene).unwrap();
     let cam = CameraParams::default();
@@ -89,6 +89,10 @@ fn rendering_is_deterministic_single_batched_and_on_one_thread() {
         assert_eq!(bits(&a), bits(b));
         assert_eq!(bits(&a), bits(&one.install(|| rs.render_depth(p, z, &cam))));
         assert_eq!(rs.render_rgb(p, z, &cam), one.install(|| rs.render_rgb(p, z, &cam)));
+        // Depth and colour from one rasterisation: the same depth to the bit, the same colour.
+        let (d, c) = rs.render_depth_rgb(p, z, &cam);
+        assert_eq!(bits(&a), bits(&d));
+        assert_eq!(c, rs.render_rgb(p, z, &cam));
     }
 }
 

@@ -175,16 +175,17 @@ impl SimNode {
     /// Renders and publishes depth (with `noise`, seeded by `seed` and `seq`; and RGB when
     /// `want_rgb`) with their camera_info.
     pub async fn publish_camera(&self, seq: u32, stamp: f64, renderer: &Renderer, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool, noise: &DepthNoise, seed: u64) -> Result<(), RosError> {
-        let want_depth = true;
         let k = cam.intrinsics();
-        if want_depth {
-            let mut d = renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?;
-            noise.apply(&mut d, seed ^ (seq as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
-            self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
-            self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &d)).await.map_err(|e| perr("depth", e))?;
-        }
-        if want_rgb {
-            let rgb = renderer.rgb(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering rgb: {e}")))?;
+        let (mut d, rgb) = if want_rgb {
+            let (d, c) = renderer.depth_rgb(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth and rgb: {e}")))?;
+            (d, Some(c))
+        } else {
+            (renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?, None)
+        };
+        noise.apply(&mut d, seed ^ (seq as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        self.depth_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
+        self.depth.publish(&cv::depth_image(seq, stamp, CAMERA_OPTICAL_FRAME, &d)).await.map_err(|e| perr("depth", e))?;
+        if let Some(rgb) = rgb {
             self.rgb_info.publish(&cv::camera_info(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, &k)).await.map_err(|e| perr("camera_info", e))?;
             self.rgb.publish(&cv::rgb_image(seq, stamp, CAMERA_OPTICAL_FRAME, cam.width, cam.height, rgb)).await.map_err(|e| perr("rgb", e))?;
         }

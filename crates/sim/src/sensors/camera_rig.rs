@@ -39,9 +39,13 @@ impl CameraRig {
     /// The frame seen from the robot at `base` on the floor at `floor_z` (m); `seed` drives
     /// this frame's noise (the same seed gives the same frame).
     pub fn capture(&self, base: Pose2, floor_z: f64, seed: u64) -> Result<CameraFrame, RenderError> {
-        let mut depth = self.renderer.depth(base, floor_z, &self.params)?;
+        let (mut depth, rgb) = if self.rgb {
+            let (d, c) = self.renderer.depth_rgb(base, floor_z, &self.params)?;
+            (d, Some(c))
+        } else {
+            (self.renderer.depth(base, floor_z, &self.params)?, None)
+        };
         self.noise.apply(&mut depth, seed);
-        let rgb = if self.rgb { Some(self.renderer.rgb(base, floor_z, &self.params)?) } else { None };
         Ok(CameraFrame { depth, rgb })
     }
 }

@@ -15,16 +15,18 @@
 //! a near plane. Ties on shared edges follow a top-left rule. Depth is drawn by row spans
 //! (`span.rs`: one crossing column per edge and row, computed so that the two triangles of a
 //! shared edge agree to the bit) straight into the strip's part of the image (`depth.rs`);
-//! colour tests the edges at every pixel and keeps triangle ids. Inverse depth (linear in the
-//! image) is interpolated from the triangle's plane, and a buffer keeps the nearest. Results
-//! do not depend on thread count.
+//! colour draws the same spans into a buffer of triangle ids beside the inverse depth, so its
+//! depth is the depth image to the bit, and then shades each pixel (`color.rs`). Inverse depth
+//! (linear in the image) is interpolated from the triangle's plane, and a buffer keeps the
+//! nearest. Results do not depend on thread count.
 
 use super::camera::CameraParams;
-use super::surface::{barycentric, shade, SurfaceTri, Surfaces};
+use super::surface::{SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
+mod color;
 mod corners;
 mod depth;
 mod span;
@@ -322,7 +324,7 @@ struct IdTarget {
 
 impl Target for IdTarget {
     fn draw(&mut self, view: &View, tris: &[Setup]) {
-        RasterScene::raster_ids(view, tris, &mut self.zb, &mut self.ids);
+        span::raster_ids(view, tris, &mut self.zb, &mut self.ids);
     }
 
     fn hiz(&self, view: &View) -> HiZ {
@@ -430,56 +432,6 @@ impl RasterScene {
         }
     }
 
-    /// Rasterises `tris` into the view's inverse depth `zb` and triangle ids `ids` (rows of
-    /// `view.w`), keeping the nearest; every pixel is tested against the edges (depth alone
-    /// goes by row spans, `span.rs`).
-    fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
-        let w = view.w;
-        for t in tris {
-            let [u0, u1, v0, v1] = t.bbox.map(|x| x as usize);
-            let [e0, e1, e2] = t.edges;
-            let [za, zb_, zc] = t.inv_z;
-            for v in v0..=v1 {
-                let yv = v as f32 - view.cy;
-                let (g0, g1, g2) = (e0[1] * yv + e0[2], e1[1] * yv + e1[2], e2[1] * yv + e2[2]);
-                let gz = zb_ * yv + zc;
-                // The row's span, estimated from each edge's crossing with a pixel of margin;
-                // the exact edge tests below decide. Nearly constant edges give no bound.
-                let (mut lo, mut hi) = (u0 as f32, u1 as f32);
-                for (e, g) in [(e0, g0), (e1, g1), (e2, g2)] {
-                    if e[0].abs() * 1e4 > g.abs() {
-                        let b = (e[3] - g) / e[0] + view.cx;
-                        if e[0] > 0.0 {
-                            lo = lo.max(b - 1.0);
-                        } else {
-                            hi = hi.min(b + 1.0);
-                        }
-                    }
-                }
-                if !(lo <= hi) {
-                    continue;
-                }
-                let (u0, u1) = (ceil_small(lo) as usize, floor_small(hi) as usize);
-                if u0 > u1 {
-                    continue;
-                }
-                let row = v * w;
-                let zrow = &mut zb[row + u0..=row + u1];
-                let x0 = u0 as f32 - view.cx;
-                let irow = &mut ids[row + u0..=row + u1];
-                for (i, (z, id)) in zrow.iter_mut().zip(irow.iter_mut()).enumerate() {
-                    let xu = x0 + i as i32 as f32;
-                    let iz = za * xu + gz;
-                    let inside = e0[0] * xu + g0 >= e0[3] && e1[0] * xu + g1 >= e1[3] && e2[0] * xu + g2 >= e2[3];
-                    if inside && iz > *z {
-                        *z = iz;
-                        *id = t.id;
-                    }
-                }
-            }
-        }
-    }
-
     /// Draws the scene into `target`: the clusters in view, nearest first; after the nearest
     /// quarter, those behind what is drawn over their whole rectangle are skipped.
     fn render_view<T: Target>(&self, view: &View, target: &mut T) {
@@ -541,41 +493,5 @@ impl RasterScene {
     /// rayon task; each image as [`RasterScene::render_depth`] gives it.
     pub fn render_depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Vec<DepthImage> {
         views.par_iter().map(|&(base, floor_z)| self.depth(base, floor_z, cam, 1)).collect()
-    }
-
-    /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
-    /// first), as [`super::render_rgb`] does: the base colour of the nearest triangle at the
-    /// pixel's ray (factor times texture, the texture coordinates interpolated from where the
-    /// ray meets the triangle's plane, so perspective-correct) shaded by `0.35 + 0.65 |cos
-    /// incidence|` ([`super::surface`]), black where nothing is hit within `max_depth`.
-    pub fn render_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Vec<u8> {
-        let (zb, ids) = self.render_strips(base, floor_z, cam, STRIPS);
-        let far = cam.max_depth as f32;
-        let k = cam.intrinsics();
-        let (s, c) = base.yaw.sin_cos();
-        let origin = [base.x, base.y, floor_z + cam.mount_height];
-        let mut data = vec![0u8; cam.width * cam.height * 3];
-        data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
-            let y = (v as f64 - k.cy) / k.fy;
-            for u in 0..cam.width {
-                let (z, id) = (zb[v * cam.width + u], ids[v * cam.width + u]);
-                if id == u32::MAX || !(1.0 / z <= far) {
-                    continue;
-                }
-                let x = (u as f64 - k.cx) / k.fx;
-                let dir = [c + x * s, s - x * c, -y];
-                let t = &self.tris[id as usize];
-                let p = t.v.map(|q| q.map(|x| x as f64));
-                let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
-                let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-                let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
-                let ln = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
-                let ld = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-                let cos = ((n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]) / (ln * ld)).abs();
-                let color = self.surfaces.color(&self.surf[id as usize], || barycentric(&t.v, origin, dir));
-                row[u * 3..u * 3 + 3].copy_from_slice(&shade(color, cos));
-            }
-        });
-        data
     }
 }

@@ -96,6 +96,15 @@ impl Renderer {
         })
     }
 
+    /// Depth and RGB of one view, as [`Renderer::depth`] and [`Renderer::rgb`] give them (the
+    /// rasteriser draws the view once for both).
+    pub fn depth_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<(DepthImage, Vec<u8>), RenderError> {
+        Ok(match self {
+            Renderer::Raster(r) => r.render_depth_rgb(base, floor_z, cam),
+            _ => (self.depth(base, floor_z, cam)?, self.rgb(base, floor_z, cam)?),
+        })
+    }
+
     /// Depth for many views (`(base, floor_z)` each), in order; wgpu renders them in one
     /// submission and reads them back in one copy.
     pub fn depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<DepthImage>, RenderError> {

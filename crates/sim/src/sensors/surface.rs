@@ -11,7 +11,7 @@
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
 
-use crate::scene::{Scene, Texture};
+use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
 
 /// Per-triangle surface data: texture coordinates of the corners and the material (its mesh).
@@ -100,9 +100,39 @@ pub(crate) fn srgb_table() -> &'static [f32; 512] {
     })
 }
 
+/// Bins of [`linear_to_srgb_byte`]'s start table over linear [0, 1).
+const ENCODE_BINS: usize = 4096;
+
+/// For each bin `b` of linear [0, 1), the sRGB byte of its lower edge `b / ENCODE_BINS`: where
+/// the search for any value in the bin starts.
+fn encode_start() -> &'static [u8; ENCODE_BINS] {
+    static START: OnceLock<[u8; ENCODE_BINS]> = OnceLock::new();
+    START.get_or_init(|| std::array::from_fn(|b| encode_by_search(b as f32 / ENCODE_BINS as f32)))
+}
+
 /// A linear value as an sRGB byte (the encoding rounded to the nearest byte; below 0 or NaN
-/// reads 0, above 1 reads 255): a binary search of the 255 linear values where rounding steps.
+/// reads 0, above 1 reads 255): the byte where the 255 linear values at which rounding steps
+/// (the table shared with the GPU) put it, found from a table of starting bytes (at most a
+/// few steps from there; the same answer as a binary search of the steps).
+#[inline]
 pub fn linear_to_srgb_byte(x: f32) -> u8 {
+    if !(x > 0.0) {
+        return 0;
+    }
+    if x >= 1.0 {
+        return 255;
+    }
+    let steps = &srgb_table()[256..511];
+    // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound.
+    let mut c = encode_start()[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
+    while c < 255 && steps[c] <= x {
+        c += 1;
+    }
+    c as u8
+}
+
+/// [`linear_to_srgb_byte`] by a binary search of the 255 linear values where rounding steps.
+fn encode_by_search(x: f32) -> u8 {
     let steps = &srgb_table()[256..511];
     let mut c = 0usize;
     for s in [128, 64, 32, 16, 8, 4, 2, 1] {
@@ -113,17 +143,25 @@ pub fn linear_to_srgb_byte(x: f32) -> u8 {
     c as u8
 }
 
+/// Largest whole number <= `x` (saturating beyond the `i32` range, 0 for NaN), without a
+/// libm call.
+#[inline(always)]
+fn floor_i32(x: f32) -> i32 {
+    let i = x as i32;
+    i - ((i as f32) > x) as i32
+}
+
 /// The texture's linear RGB at texture coordinates `uv` (bilinear, wrapped; see the module).
 pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     let lut = srgb_table();
     let (w, h) = (t.width as i32, t.height as i32);
     let x = uv[0] * t.width as f32 - 0.5;
     let y = uv[1] * t.height as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let (i, j) = (x0 as i32, y0 as i32);
-    let xs = [t.wrap_s.apply(i, w) as u32, t.wrap_s.apply(i.saturating_add(1), w) as u32];
-    let ys = [t.wrap_t.apply(j, h) as u32, t.wrap_t.apply(j.saturating_add(1), h) as u32];
+    let (i, j) = (floor_i32(x), floor_i32(y));
+    let (fx, fy) = (x - i as f32, y - j as f32);
+    // Inside the image (the common case) no wrapping is needed.
+    let wrap = |m: Wrap, i: i32, n: i32| if i >= 0 && i < n - 1 { [i as u32, i as u32 + 1] } else { [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32] };
+    let (xs, ys) = (wrap(t.wrap_s, i, w), wrap(t.wrap_t, j, h));
     let c = |x: u32, y: u32| t.texel(x, y).map(|b| lut[b as usize]);
     let (c00, c10, c01, c11) = (c(xs[0], ys[0]), c(xs[1], ys[0]), c(xs[0], ys[1]), c(xs[1], ys[1]));
     std::array::from_fn(|k| {
@@ -157,7 +195,8 @@ pub(crate) fn barycentric(v: &[[f32; 3]; 3], origin: [f64; 3], dir: [f64; 3]) ->
 #[inline]
 pub(crate) fn shade(c: [u8; 3], cos: f64) -> [u8; 3] {
     let s = 0.35 + 0.65 * cos;
-    c.map(|v| (v as f64 * s).round() as u8)
+    // Rounded half up (the product is in [0, 255]), without a libm call.
+    c.map(|v| (v as f64 * s + 0.5) as u8)
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -171,7 +210,6 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Wrap;
 
     fn checker() -> Texture {
         // 2 x 2: white, black / black, white (sRGB bytes).
@@ -204,6 +242,14 @@ mod tests {
         assert_eq!(linear_to_srgb_byte(f32::NAN), 0);
         assert_eq!(linear_to_srgb_byte(-1.0), 0);
         assert_eq!(linear_to_srgb_byte(2.0), 255);
+        // The start table gives the binary search's answer everywhere, steps and bin edges
+        // included.
+        let mut xs: Vec<f32> = srgb_table()[256..511].iter().flat_map(|&s| [s, f32::from_bits(s.to_bits() - 1), f32::from_bits(s.to_bits() + 1)]).collect();
+        xs.extend((0..=ENCODE_BINS).map(|b| b as f32 / ENCODE_BINS as f32));
+        xs.extend((0..100_000).map(|i| i as f32 / 100_000.0));
+        for x in xs {
+            assert_eq!(linear_to_srgb_byte(x), encode_by_search(x), "{x}");
+        }
         // The search agrees with the formula away from the rounding steps.
         for i in 0..=1000 {
             let x = i as f64 / 1000.0;

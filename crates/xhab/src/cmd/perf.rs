@@ -241,11 +241,14 @@ fn sensor_perf(world: &World, starts: &[Env], a: &PerfArgs) -> Result<serde_json
             for _ in 0..50 {
                 let act = random_action(&mut act_rng);
                 env.step(act);
-                let img = r.depth(env.pose(), floor_z, &cam)?;
+                let img = if rgb {
+                    let (d, c) = r.depth_rgb(env.pose(), floor_z, &cam)?;
+                    checksum += c[c.len() / 2] as f64;
+                    d
+                } else {
+                    r.depth(env.pose(), floor_z, &cam)?
+                };
                 checksum += img.data[img.data.len() / 2] as f64;
-                if rgb {
-                    checksum += r.rgb(env.pose(), floor_z, &cam)?[0] as f64;
-                }
             }
             s += t.elapsed().as_secs_f64();
             steps += 50;

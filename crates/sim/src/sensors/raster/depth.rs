@@ -52,13 +52,23 @@ impl RasterScene {
     /// Draws one strip (its rows holding `1 / max_depth`) and turns its inverse depth into
     /// depth (m, 0 where nothing is hit within `max_depth`).
     fn depth_strip(&self, view: &View, part: &mut StripRows) {
-        let (far, near_w) = (view.far, 1.0 / view.far);
         self.render_view(view, part);
         for row in part.rows.iter_mut() {
             for z in row.iter_mut() {
-                let d = 1.0 / *z;
-                *z = if *z > near_w && d <= far { d } else { 0.0 };
+                *z = depth_of(*z, view.far);
             }
         }
+    }
+}
+
+/// The depth (m, 0 where nothing is hit within `far`) of a pixel whose inverse depth buffer
+/// holds `inv` (1/m; `1 / far` where nothing was drawn).
+#[inline(always)]
+pub(super) fn depth_of(inv: f32, far: f32) -> f32 {
+    let d = 1.0 / inv;
+    if inv > 1.0 / far && d <= far {
+        d
+    } else {
+        0.0
     }
 }

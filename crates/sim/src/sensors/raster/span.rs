@@ -52,3 +52,29 @@ pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]])
         }
     }
 }
+
+/// Rasterises `tris` into the inverse depth `zb` (1/m, rows of `view.w`) and the triangle ids
+/// `ids`, keeping the nearest: the same pixels and the same values as [`raster_depth`], so a
+/// colour render's depth is the depth render's to the bit.
+pub(super) fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
+    let w = view.w;
+    for t in tris {
+        let [u0, u1, v0, v1] = t.bbox.map(|x| x as i32);
+        let [za, zb_, zc] = t.inv_z;
+        let inv_e = t.edges.map(|e| 1.0 / e[0]);
+        for v in v0..=v1 {
+            let yv = v as f32 - view.cy;
+            let Some((lo, hi)) = row_span(t, &inv_e, view.cx, yv, u0, u1) else { continue };
+            let gz = zb_ * yv + zc;
+            let x0 = lo as f32 - view.cx;
+            let cols = v as usize * w + lo as usize..=v as usize * w + hi as usize;
+            for (i, (z, id)) in zb[cols.clone()].iter_mut().zip(&mut ids[cols]).enumerate() {
+                let iz = za * (x0 + i as i32 as f32) + gz;
+                if iz > *z {
+                    *z = iz;
+                    *id = t.id;
+                }
+            }
+        }
+    }
+}
