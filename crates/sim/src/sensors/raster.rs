@@ -7,18 +7,22 @@
 //! near plane, beyond `max_depth` or cover no pixel centre before the full setup. Per view,
 //! clusters outside the frustum or beyond `max_depth` are culled and the rest sorted nearest
 //! first; the nearest quarter is drawn, then the others are drawn unless every 16 x 16 tile
-//! their rectangle covers is already nearer (hierarchical z). A single view is split into
-//! column strips rendered in parallel; a batch renders one view per task. Coverage uses
-//! homogeneous edge functions (the ray through a pixel centre hits the triangle iff it lies in
-//! the cone spanned by the camera-frame corners), so triangles crossing the camera plane need
-//! no clipping for coverage; only their pixel bounding box is taken from the part in front of
-//! a near plane. Ties on shared edges follow a top-left rule. Depth is drawn by row spans
-//! (`span.rs`: one crossing column per edge and row, computed so that the two triangles of a
-//! shared edge agree to the bit) straight into the strip's part of the image (`depth.rs`);
-//! colour draws the same spans into a buffer of triangle ids beside the inverse depth, so its
-//! depth is the depth image to the bit, and then shades each pixel (`color.rs`). Inverse depth
+//! their rectangle covers is already nearer (hierarchical z).
+//!
+//! Coverage uses homogeneous edge functions (the ray through a pixel centre hits the triangle
+//! iff it lies in the cone spanned by the camera-frame corners), so triangles crossing the
+//! camera plane need no clipping for coverage; only their pixel bounding box is taken from
+//! the part in front of a near plane. Triangles are drawn by row spans (`span.rs`: one
+//! crossing column per edge and row, computed so that the two triangles of a shared edge
+//! agree to the bit, which settles ties on shared edges by a top-left rule). Inverse depth
 //! (linear in the image) is interpolated from the triangle's plane, and a buffer keeps the
-//! nearest. Results do not depend on thread count.
+//! nearest.
+//!
+//! A single depth view deals its clusters to one buffer per thread and keeps the nearest of
+//! them (`depth.rs`); a colour view is split into column strips rendered in parallel, keeps
+//! the triangle id beside the inverse depth (so its depth is the depth image to the bit) and
+//! shades each pixel from its triangle (`color.rs`); a batch renders one view per task.
+//! Results do not depend on the number of threads.
 
 use super::camera::CameraParams;
 use super::surface::{SurfaceTri, Surfaces};
@@ -37,7 +41,7 @@ use corners::{ClusterCorners, ViewCorners, MARGIN};
 const CLUSTER: usize = 96;
 /// Near plane for bounding boxes (m): surfaces closer than this may be missed.
 const NEAR: f32 = 1e-3;
-/// Column strips that one view is split into, rendered in parallel.
+/// Column strips that one colour view is split into, rendered in parallel.
 const STRIPS: usize = 2;
 
 /// One scene triangle: corners in the world frame (m).
@@ -432,12 +436,16 @@ impl RasterScene {
         }
     }
 
-    /// Draws the scene into `target`: the clusters in view, nearest first; after the nearest
-    /// quarter, those behind what is drawn over their whole rectangle are skipped.
+    /// Draws the clusters in view into `target` ([`RasterScene::render_clusters`]).
     fn render_view<T: Target>(&self, view: &View, target: &mut T) {
+        self.render_clusters(view, &self.visible(view), target);
+    }
+
+    /// Draws the clusters `vis` (nearest first) into `target`; after the nearest quarter,
+    /// those behind what is drawn over their whole rectangle are skipped.
+    fn render_clusters<T: Target>(&self, view: &View, vis: &[Vis], target: &mut T) {
         let mut tris = Vec::new();
         let mut vc = ViewCorners::default();
-        let vis = self.visible(view);
         let split = if vis.len() > 64 { vis.len() / 4 } else { vis.len() };
         self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
         target.draw(view, &tris);
@@ -486,7 +494,7 @@ impl RasterScene {
     /// `floor_z` (m), as [`super::render_depth`] does: depth along the optical axis (m), 0
     /// where nothing is hit within `max_depth`. Uses all rayon threads.
     pub fn render_depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> DepthImage {
-        self.depth(base, floor_z, cam, STRIPS)
+        self.depth(base, floor_z, cam, rayon::current_num_threads())
     }
 
     /// Renders the depth images of many views (robot pose, floor height in m), one view per

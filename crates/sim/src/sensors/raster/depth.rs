@@ -1,17 +1,23 @@
-//! Depth images: each column strip of a view is drawn straight into its part of the image's
-//! rows and converted to depth there, in parallel; nothing is copied or merged afterwards.
+//! Depth images: the clusters in view are dealt round-robin (in nearest-first order) to as
+//! many whole-image inverse depth buffers as there are threads, drawn in parallel, and the
+//! buffers merged by keeping the nearest at each pixel. Keeping the nearest does not depend on
+//! the order of drawing, so the image is the one-buffer image to the bit, whatever the number
+//! of threads; and unlike splitting the image, no cluster is set up twice.
 
 use super::{span, HiZ, RasterScene, Setup, Target, View};
 use crate::sensors::camera::CameraParams;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
-/// One strip's part of every image row, holding inverse depth (1/m) while drawing.
-struct StripRows<'a> {
+/// Rows merged and converted per task.
+const MERGE_ROWS: usize = 32;
+
+/// An image's rows, holding inverse depth (1/m) while drawing.
+struct Rows<'a> {
     rows: Vec<&'a mut [f32]>,
 }
 
-impl Target for StripRows<'_> {
+impl Target for Rows<'_> {
     fn draw(&mut self, view: &View, tris: &[Setup]) {
         span::raster_depth(view, tris, &mut self.rows);
     }
@@ -22,42 +28,36 @@ impl Target for StripRows<'_> {
 }
 
 impl RasterScene {
-    /// The depth image from `base` on the floor at `floor_z`, drawn as `strips` column strips
-    /// (in parallel when more than one). The strips are fixed by the image width alone, so the
-    /// result does not depend on the number of threads.
-    pub(super) fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> DepthImage {
+    /// The depth image from `base` on the floor at `floor_z`, its clusters drawn into `parts`
+    /// buffers (in parallel when more than one) and merged.
+    pub(super) fn depth(&self, base: Pose2, floor_z: f64, cam: &CameraParams, parts: usize) -> DepthImage {
         let (w, h) = (cam.width, cam.height);
-        let mut data = vec![1.0 / cam.max_depth as f32; w * h];
-        if w > 0 && h > 0 {
-            let strips = strips.clamp(1, w);
-            let edges: Vec<usize> = (0..=strips).map(|i| i * w / strips).collect();
-            let mut parts: Vec<StripRows> = (0..strips).map(|_| StripRows { rows: Vec::with_capacity(h) }).collect();
-            for mut row in data.chunks_mut(w) {
-                for (i, part) in parts.iter_mut().enumerate() {
-                    let (a, rest) = row.split_at_mut(edges[i + 1] - edges[i]);
-                    part.rows.push(a);
-                    row = rest;
+        if w == 0 || h == 0 {
+            return DepthImage { width: w, height: h, data: Vec::new() };
+        }
+        let view = View::new(base, floor_z, cam, 0, w);
+        let vis = self.visible(&view);
+        let parts = parts.clamp(1, vis.len().max(1));
+        let draw = |k: usize| {
+            let mine: Vec<_> = vis.iter().skip(k).step_by(parts).copied().collect();
+            let mut data = vec![1.0 / view.far; w * h];
+            self.render_clusters(&view, &mine, &mut Rows { rows: data.chunks_mut(w).collect() });
+            data
+        };
+        let mut bufs: Vec<Vec<f32>> = if parts == 1 { vec![draw(0)] } else { (0..parts).into_par_iter().map(draw).collect() };
+        let mut data = bufs.swap_remove(0);
+        let far = view.far;
+        data.par_chunks_mut(w * MERGE_ROWS).enumerate().for_each(|(i, chunk)| {
+            for b in &bufs {
+                for (z, o) in chunk.iter_mut().zip(&b[i * w * MERGE_ROWS..]) {
+                    *z = if *o > *z { *o } else { *z };
                 }
             }
-            let draw = |(i, part): (usize, &mut StripRows)| self.depth_strip(&View::new(base, floor_z, cam, edges[i], edges[i + 1]), part);
-            if strips == 1 {
-                parts.iter_mut().enumerate().for_each(draw);
-            } else {
-                parts.par_iter_mut().enumerate().for_each(draw);
+            for z in chunk.iter_mut() {
+                *z = depth_of(*z, far);
             }
-        }
+        });
         DepthImage { width: w, height: h, data }
-    }
-
-    /// Draws one strip (its rows holding `1 / max_depth`) and turns its inverse depth into
-    /// depth (m, 0 where nothing is hit within `max_depth`).
-    fn depth_strip(&self, view: &View, part: &mut StripRows) {
-        self.render_view(view, part);
-        for row in part.rows.iter_mut() {
-            for z in row.iter_mut() {
-                *z = depth_of(*z, view.far);
-            }
-        }
     }
 }
 
