@@ -232,15 +232,18 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
     while !env.is_done() {
         let t = episode_time(env.sim_s());
         // The observation's camera frame (`--sensors`): rendered at each controller step; the
-        // navigator reads scans only (a depth scan source renders its own).
+        // navigator reads scans only (a depth scan source flattens this frame when it comes
+        // from the same camera, else renders its own).
+        let mut seen = None;
         if let Some(rig) = cfg.sensors.as_deref() {
-            if let Err(reason) = crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
-                return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason });
+            match crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
+                Ok(frame) => seen = Some((rig, frame)),
+                Err(reason) => return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason }),
             }
         }
         step += 1;
         let scan = match sensor.as_mut() {
-            Some(s) if brain.scan_due(t) => match s.scan(env.pose(), grid.floor_z) {
+            Some(s) if brain.scan_due(t) => match s.scan_seen(env.pose(), grid.floor_z, seen.as_ref().map(|(r, f)| (*r, f))) {
                 Ok(scan) => Some(cv::scan_from_msg(&cv::laser_scan(0, t, "laser", &scan, setup.scan_period))),
                 Err(e) => return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason: format!("scan at {t:.2} s: {e}") }),
             },

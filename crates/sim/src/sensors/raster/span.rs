@@ -33,24 +33,34 @@ pub(super) fn row_span(t: &Setup, inv_e: &[f32; 3], cx: f32, yv: f32, u0: i32, u
     (lo <= hi).then_some((lo, hi))
 }
 
-/// Rasterises `tris` into the inverse depth `rows` (1/m, the view's image rows), keeping the
-/// nearest.
-pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]]) {
+/// Calls `fill(t, v, lo, hi, x0, gz)` for every row span `lo..=hi` of row `v` that triangle
+/// `t` of `tris` covers, with `x0` the first column relative to the principal point and `gz`
+/// the row's inverse depth at the principal column: the pixel at `lo + i` has inverse depth
+/// `t.inv_z[0] * (x0 + i) + gz` (1/m).
+#[inline(always)]
+fn for_each_span(view: &View, tris: &[Setup], mut fill: impl FnMut(&Setup, usize, usize, usize, f32, f32)) {
     for t in tris {
         let [u0, u1, v0, v1] = t.bbox.map(|x| x as i32);
-        let [za, zb, zc] = t.inv_z;
+        let [_, zb, zc] = t.inv_z;
         let inv_e = t.edges.map(|e| 1.0 / e[0]);
         for v in v0..=v1 {
             let yv = v as f32 - view.cy;
             let Some((lo, hi)) = row_span(t, &inv_e, view.cx, yv, u0, u1) else { continue };
-            let gz = zb * yv + zc;
-            let x0 = lo as f32 - view.cx;
-            for (i, z) in rows[v as usize][lo as usize..=hi as usize].iter_mut().enumerate() {
-                let iz = za * (x0 + i as i32 as f32) + gz;
-                *z = if iz > *z { iz } else { *z };
-            }
+            fill(t, v as usize, lo as usize, hi as usize, lo as f32 - view.cx, zb * yv + zc);
         }
     }
+}
+
+/// Rasterises `tris` into the inverse depth `rows` (1/m, the view's image rows), keeping the
+/// nearest.
+pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]]) {
+    for_each_span(view, tris, |t, v, lo, hi, x0, gz| {
+        let za = t.inv_z[0];
+        for (i, z) in rows[v][lo..=hi].iter_mut().enumerate() {
+            let iz = za * (x0 + i as i32 as f32) + gz;
+            *z = if iz > *z { iz } else { *z };
+        }
+    });
 }
 
 /// Rasterises `tris` into the inverse depth `zb` (1/m, rows of `view.w`) and the triangle ids
@@ -58,23 +68,15 @@ pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]])
 /// colour render's depth is the depth render's to the bit.
 pub(super) fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
     let w = view.w;
-    for t in tris {
-        let [u0, u1, v0, v1] = t.bbox.map(|x| x as i32);
-        let [za, zb_, zc] = t.inv_z;
-        let inv_e = t.edges.map(|e| 1.0 / e[0]);
-        for v in v0..=v1 {
-            let yv = v as f32 - view.cy;
-            let Some((lo, hi)) = row_span(t, &inv_e, view.cx, yv, u0, u1) else { continue };
-            let gz = zb_ * yv + zc;
-            let x0 = lo as f32 - view.cx;
-            let cols = v as usize * w + lo as usize..=v as usize * w + hi as usize;
-            for (i, (z, id)) in zb[cols.clone()].iter_mut().zip(&mut ids[cols]).enumerate() {
-                let iz = za * (x0 + i as i32 as f32) + gz;
-                if iz > *z {
-                    *z = iz;
-                    *id = t.id;
-                }
+    for_each_span(view, tris, |t, v, lo, hi, x0, gz| {
+        let za = t.inv_z[0];
+        let cols = v * w + lo..=v * w + hi;
+        for (i, (z, id)) in zb[cols.clone()].iter_mut().zip(&mut ids[cols]).enumerate() {
+            let iz = za * (x0 + i as i32 as f32) + gz;
+            if iz > *z {
+                *z = iz;
+                *id = t.id;
             }
         }
-    }
+    });
 }
