@@ -128,6 +128,11 @@ pub struct RosSimArgs {
     /// Map to publish on `map` (map_server YAML) [default: the scene's own map].
     #[arg(long)]
     pub map: Option<PathBuf>,
+    /// Map to publish on `amcl/map`, the one to localise on (map_server YAML) [default without
+    /// --map: the scene cut at the lidar's height, as `xhab map --laser-height`; with --map:
+    /// none].
+    #[arg(long)]
+    pub amcl_map: Option<PathBuf>,
     /// Start pose X,Y,YAW (world frame) [default: a random navigable point from --seed].
     #[arg(long)]
     pub start: Option<String>,
@@ -140,6 +145,16 @@ pub struct RosSimArgs {
     /// Renderer of the camera.
     #[arg(long, value_enum, default_value_t = RendererArg::Auto)]
     pub renderer: RendererArg,
+    /// Camera image width and height (px).
+    #[arg(long, default_value_t = 256)]
+    pub resolution: usize,
+    /// Camera horizontal field of view (degrees).
+    #[arg(long, default_value_t = 90.0)]
+    pub hfov: f64,
+    /// Camera height above the floor (m) [default: the robot profile's with --physics, else
+    /// 1.25, Habitat's agent].
+    #[arg(long)]
+    pub camera_height: Option<f64>,
     /// Depth noise: standard deviation at 1 m (m), growing with depth squared (0 = off).
     #[arg(long, default_value_t = 0.0)]
     pub depth_noise: f64,

@@ -31,6 +31,8 @@ pub struct LiveOptions {
     pub start_z: f64,
     /// The map to publish (latched), if any.
     pub map: Option<OccupancyGrid>,
+    /// The map to publish on `amcl/map` (latched), the one to localise on, if any.
+    pub amcl_map: Option<OccupancyGrid>,
     /// The planar lidar, published on `scan` every `scan_period`.
     pub lidar: Option<(Arc<RayScene>, LidarParams)>,
     /// Period between scans (s).
@@ -92,6 +94,9 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
     sim.publish_static_tf(laser_z, cam_z).await?;
     if let Some(m) = &o.map {
         sim.publish_map(0.0, m).await?;
+    }
+    if let Some(m) = &o.amcl_map {
+        sim.publish_amcl_map(0.0, m).await?;
     }
     let mut lidar = o.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), o.seed)));
     let t0 = Instant::now();

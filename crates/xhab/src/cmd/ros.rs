@@ -52,7 +52,14 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 Some(m) => xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0,
                 None => grid.occupancy_grid(),
             };
-            let cam = CameraParams { mount_height: physics.as_ref().map_or(1.25, |p| p.profile.camera_height), ..Default::default() };
+            let lidar = LidarParams::default();
+            let amcl_map = match (&a.amcl_map, &a.map) {
+                (Some(m), _) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
+                (None, None) => Some(grid.slice_map(&world.scene, lidar.mount_height, xhab_bridge::nav_agent::SCAN_PLANE_HALF_BAND)),
+                (None, Some(_)) => None,
+            };
+            let cam_opts = crate::cli::CameraOpts { renderer: a.renderer, resolution: a.resolution, hfov: a.hfov, camera_height: a.camera_height, batch: None };
+            let cam = super::render::camera(&cam_opts, physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height))?;
             let o = LiveOptions {
                 master: master_uri(&a.ros),
                 name: a.ros.name.clone().unwrap_or_else(|| "xhab_sim".into()),
@@ -60,13 +67,11 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 start,
                 start_z: z,
                 map: Some(map),
-                lidar: Some((rs.clone(), LidarParams::default())),
+                amcl_map,
+                lidar: Some((rs.clone(), lidar)),
                 scan_period: 0.1,
                 camera: match a.camera {
-                    true => {
-                        let o = crate::cli::CameraOpts { renderer: a.renderer, resolution: cam.width, hfov: cam.hfov_deg, camera_height: Some(cam.mount_height), batch: None };
-                        Some((Arc::new(super::render::renderer(&o, &world.scene)?), cam, a.rgb))
-                    }
+                    true => Some((Arc::new(super::render::renderer(&cam_opts, &world.scene)?), cam, a.rgb)),
                     false => None,
                 },
                 camera_period: 0.2,

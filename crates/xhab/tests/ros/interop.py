@@ -50,7 +50,13 @@ if abs(info.K[0] - 128.0) > 1e-6 or abs(info.K[2] - 127.5) > 1e-6:
 grid = rospy.wait_for_message("/map", OccupancyGrid, timeout=T)
 if len(grid.data) != grid.info.width * grid.info.height or grid.info.width == 0:
     fail("map data size")
-print("topics ok: scan %d beams, odom, tf, clock %.2f->%.2f, depth 256x256, camera_info, map %dx%d" % (len(scan.ranges), c1, c2, grid.info.width, grid.info.height), flush=True)
+# The map to localise on: the scene cut at the lidar's height, on the same grid as /map.
+amcl_map = rospy.wait_for_message("/amcl/map", OccupancyGrid, timeout=T)
+if len(amcl_map.data) != amcl_map.info.width * amcl_map.info.height or amcl_map.info.width == 0:
+    fail("amcl/map data size")
+if not any(v == 100 for v in amcl_map.data) or not any(v == 0 for v in amcl_map.data):
+    fail("amcl/map has no walls or no free space")
+print("topics ok: scan %d beams, odom, tf, clock %.2f->%.2f, depth 256x256, camera_info, map %dx%d, amcl/map %dx%d" % (len(scan.ranges), c1, c2, grid.info.width, grid.info.height, amcl_map.info.width, amcl_map.info.height), flush=True)
 
 # rosbag records our topics and reads back.
 bag = os.path.join(tempfile.mkdtemp(), "xhab.bag")
