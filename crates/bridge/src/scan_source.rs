@@ -59,7 +59,9 @@ impl ScanSource {
     }
 }
 
+/// What a [`ScanSensor`] scans with (one per run: the variants' size difference costs nothing).
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
 enum SensorState {
     Lidar(Arc<RayScene>, Lidar),
     Depth(Arc<CameraRig>, DepthToScanParams),

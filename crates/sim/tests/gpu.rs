@@ -54,7 +54,7 @@ fn gpu_depth_matches_the_ray_cast_over_random_poses_in_the_house() {
         let pose = Pose2::new(
             rng.gen_range(b.min[0] as f64 + 0.3..b.max[0] as f64 - 0.3),
             rng.gen_range(b.min[1] as f64 + 0.3..b.max[1] as f64 - 0.3),
-            rng.gen_range(-3.14..3.14),
+            rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI),
         );
         let (o, h) = agree(&g.render_depth(pose, 0.0, &cam).unwrap(), &render_depth(&ray, pose, 0.0, &cam));
         ok += o;
@@ -144,7 +144,7 @@ fn gpu_colour_matches_the_rasteriser() {
         let pose = Pose2::new(
             rng.gen_range(b.min[0] as f64 + 0.3..b.max[0] as f64 - 0.3),
             rng.gen_range(b.min[1] as f64 + 0.3..b.max[1] as f64 - 0.3),
-            rng.gen_range(-3.14..3.14),
+            rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI),
         );
         let a = g.render_rgb(pose, 0.0, &cam).unwrap();
         let r = rs.render_rgb(pose, 0.0, &cam);

@@ -139,7 +139,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             let setup: &NavSetup = setup;
             let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
             sim.publish_map(stamp(0.0), &map).await?;
-            if let Some(m) = crate::nav_agent::localization_map(setup, grid, &world_scene) {
+            if let Some(m) = crate::nav_agent::localization_map(setup, grid, world_scene) {
                 sim.publish_amcl_map(stamp(0.0), &m).await?;
             }
             sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;

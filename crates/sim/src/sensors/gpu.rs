@@ -511,7 +511,7 @@ impl GpuRenderer {
             max_dim: limits.max_texture_dimension_2d,
             max_layers: limits.max_texture_array_layers,
             max_buffer: limits.max_buffer_size,
-            max_views_binding: limits.max_storage_buffer_binding_size as u64,
+            max_views_binding: limits.max_storage_buffer_binding_size,
             info,
             device,
             queue,
@@ -629,7 +629,7 @@ impl GpuRenderer {
         let row_bytes = (w * 4).next_multiple_of(256) as u64;
         let by_buffer = (self.max_buffer / (row_bytes * h as u64)).max(1) as usize;
         let by_binding = (self.max_views_binding / ViewUniform::SIZE).max(1) as usize;
-        (self.max_layers as usize).min(by_buffer).min(by_binding).min(256).max(1)
+        (self.max_layers as usize).min(by_buffer).min(by_binding).clamp(1, 256)
     }
 
     /// Renders `views` in chunks that fit one submission; calls `emit` with each view's pixels

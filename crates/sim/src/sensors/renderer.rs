@@ -30,7 +30,9 @@ pub enum RenderError {
     Gpu(#[from] super::gpu::GpuError),
 }
 
-/// A renderer built for one scene.
+/// A renderer built for one scene (built once per run and shared, so the size difference of
+/// the variants costs nothing).
+#[allow(clippy::large_enum_variant)]
 pub enum Renderer {
     /// Ray casting.
     Raycast(RayScene),
