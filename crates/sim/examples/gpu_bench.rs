@@ -6,7 +6,7 @@
 //! headings; prints the adapter, agreement with the ray caster (|diff| < 1 cm) and 256x256
 //! depth frames/s (readback included): single view, and batches of 16 views in one submission.
 
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::time::Instant;
@@ -45,12 +45,7 @@ fn main() {
         let cells = grid.cells_on_islands(1.5);
         let cells = if cells.is_empty() { grid.cells_on_islands(0.0) } else { cells };
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let views: Vec<(Pose2, f64)> = (0..100)
-            .map(|_| {
-                let p = grid.sample_navigable_point(&cells, &mut rng).expect("navigable point");
-                (Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI)), grid.floor_z)
-            })
-            .collect();
+        let views: Vec<(Pose2, f64)> = (0..100).map(|_| (grid.sample_pose(&cells, &mut rng).expect("navigable point"), grid.floor_z)).collect();
         let cam = CameraParams::default();
         let (mut ok, mut all) = (0usize, 0usize);
         for &(pose, fz) in &views {

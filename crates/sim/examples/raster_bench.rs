@@ -7,7 +7,7 @@
 //! instead renders exactly N single views per scene and nothing else (no agreement check, no
 //! ray casting): a fixed workload for instruction counts (`valgrind --tool=callgrind`).
 
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::time::Instant;
@@ -44,12 +44,7 @@ fn main() {
         let cells = grid.cells_on_islands(1.5);
         let cells = if cells.is_empty() { grid.cells_on_islands(0.0) } else { cells };
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let views: Vec<(Pose2, f64)> = (0..100)
-            .map(|_| {
-                let p = grid.sample_navigable_point(&cells, &mut rng).expect("navigable point");
-                (Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI)), grid.floor_z)
-            })
-            .collect();
+        let views: Vec<(Pose2, f64)> = (0..100).map(|_| (grid.sample_pose(&cells, &mut rng).expect("navigable point"), grid.floor_z)).collect();
         let cam = CameraParams::default();
         if let Some(n) = frames {
             let t = Instant::now();

@@ -2,7 +2,7 @@
 //! Vulkan adapter it prints SKIPPED and passes, unless `XHAB_REQUIRE_GPU=1`.
 
 use crate::common::data_dir;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{load, LoadOptions};
@@ -32,12 +32,7 @@ fn gpu_depth_agrees_with_the_ray_cast_on_real_scenes() {
         let cells = grid.cells_on_islands(0.0);
         let mut rng = ChaCha8Rng::seed_from_u64(42);
         let cam = CameraParams::default();
-        let views: Vec<(Pose2, f64)> = (0..100)
-            .map(|_| {
-                let p = grid.sample_navigable_point(&cells, &mut rng).unwrap();
-                (Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI)), grid.floor_z)
-            })
-            .collect();
+        let views: Vec<(Pose2, f64)> = (0..100).map(|_| (grid.sample_pose(&cells, &mut rng).unwrap(), grid.floor_z)).collect();
         let (mut ok, mut hit, mut all) = (0usize, 0usize, 0usize);
         for (chunk, imgs) in views.chunks(16).map(|c| (c, g.render_depth_batch(c, &cam).unwrap())) {
             for (&(pose, fz), a) in chunk.iter().zip(&imgs) {

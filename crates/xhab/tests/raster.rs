@@ -1,13 +1,12 @@
 //! Acceptance of the rasterised depth camera on real scenes: it agrees with the ray caster.
 
 use crate::common::data_dir;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{load, LoadOptions};
 use xhab_sim::sensors::{render_depth, CameraParams, RasterScene, RayScene};
 use xhab_sim::world::World;
-use xhab_types::Pose2;
 
 #[test]
 fn raster_depth_agrees_with_the_ray_cast_on_real_scenes() {
@@ -23,8 +22,7 @@ fn raster_depth_agrees_with_the_ray_cast_on_real_scenes() {
         let cam = CameraParams::default();
         let (mut ok, mut hit, mut all) = (0usize, 0usize, 0usize);
         for _ in 0..100 {
-            let p = grid.sample_navigable_point(&cells, &mut rng).unwrap();
-            let pose = Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI));
+            let pose = grid.sample_pose(&cells, &mut rng).unwrap();
             let a = rs.render_depth(pose, grid.floor_z, &cam);
             let b = render_depth(&ray, pose, grid.floor_z, &cam);
             ok += a.data.iter().zip(&b.data).filter(|(x, y)| (**x - **y).abs() < 0.01).count();

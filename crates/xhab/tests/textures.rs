@@ -3,13 +3,12 @@
 //! adapter the wgpu comparison prints SKIPPED, unless `XHAB_REQUIRE_GPU=1`.
 
 use crate::common::data_dir;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{load, LoadOptions};
 use xhab_sim::sensors::{render_rgb, CameraParams, GpuRenderer, RasterScene, RayScene};
 use xhab_sim::world::World;
-use xhab_types::Pose2;
 
 /// Per-channel tolerance (bytes) of two renderers' colours for one pixel.
 const TOL: u8 = 2;
@@ -62,8 +61,7 @@ fn textured_rgb_agrees_between_the_renderers_on_real_scenes() {
         let (mut ray_raster, mut gpu_raster, mut gpu_ray, mut lit, mut all) = (0, 0, 0, 0, 0);
         let (mut textured_detail, mut flat_detail) = (0, 0);
         for _ in 0..30 {
-            let p = grid.sample_navigable_point(&cells, &mut rng).unwrap();
-            let pose = Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI));
+            let pose = grid.sample_pose(&cells, &mut rng).unwrap();
             let a = render_rgb(&ray, pose, grid.floor_z, &cam);
             let b = rs.render_rgb(pose, grid.floor_z, &cam);
             ray_raster += agree(&a, &b);

@@ -337,6 +337,13 @@ impl NavGrid {
         None
     }
 
+    /// A random pose: a navigable point as [`NavGrid::sample_navigable_point`] gives it, then
+    /// a heading uniform in [-pi, pi) (rad), both drawn from `rng`; `None` as that gives it.
+    pub fn sample_pose(&self, cells: &[usize], rng: &mut impl rand::Rng) -> Option<xhab_types::Pose2> {
+        let p = self.sample_navigable_point(cells, rng)?;
+        Some(xhab_types::Pose2::new(p.x, p.y, rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI)))
+    }
+
     /// Indices of navigable cells on islands of at least `min_radius` (m).
     pub fn cells_on_islands(&self, min_radius: f64) -> Vec<usize> {
         (0..self.island_of.len())
