@@ -143,4 +143,16 @@ fn an_empty_scene_has_no_raster_scene_and_a_lone_box_is_seen() {
     // Behind the camera it is not seen.
     let back = rs.render_depth(Pose2::new(0.0, 0.0, std::f64::consts::PI), 0.0, &cam);
     assert!(back.data.iter().all(|d| *d == 0.0));
+    // An empty image is empty, not a panic.
+    for (w, h) in [(0, 0), (0, 4), (4, 0)] {
+        let cam = CameraParams { width: w, height: h, ..Default::default() };
+        let (d, c) = rs.render_depth_rgb(Pose2::new(0.0, 0.0, 0.0), 0.0, &cam);
+        assert!(d.data.is_empty() && c.is_empty() && rs.render_depth(Pose2::new(0.0, 0.0, 0.0), 0.0, &cam).data.is_empty());
+        let ray = RayScene::new(&s).unwrap();
+        assert!(render_depth(&ray, Pose2::new(0.0, 0.0, 0.0), 0.0, &cam).data.is_empty() && render_rgb(&ray, Pose2::new(0.0, 0.0, 0.0), 0.0, &cam).is_empty());
+    }
+    // One pixel works too.
+    let one = CameraParams { width: 1, height: 1, ..Default::default() };
+    assert!((rs.render_depth(Pose2::new(0.0, 0.0, 0.0), 0.0, &one).data[0] - 2.0).abs() < 1e-4);
+    assert!(rs.render_rgb(Pose2::new(0.0, 0.0, 0.0), 0.0, &one).iter().any(|c| *c > 0));
 }

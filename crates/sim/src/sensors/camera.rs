@@ -43,6 +43,9 @@ pub fn render_rgb(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParam
     let (s, c) = base.yaw.sin_cos();
     let origin = [base.x, base.y, floor_z + cam.mount_height];
     let mut data = vec![0u8; cam.width * cam.height * 3];
+    if data.is_empty() {
+        return data;
+    }
     data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
         let y = (v as f64 - k.cy) / k.fy;
         for u in 0..cam.width {
@@ -65,6 +68,9 @@ pub fn render_depth(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraPar
     let right = [s, -c, 0.0];
     let origin = [base.x, base.y, floor_z + cam.mount_height];
     let mut data = vec![0f32; cam.width * cam.height];
+    if data.is_empty() {
+        return DepthImage { width: cam.width, height: cam.height, data };
+    }
     data.par_chunks_mut(cam.width).enumerate().for_each(|(v, row)| {
         let y = (v as f64 - k.cy) / k.fy;
         for (u, px) in row.iter_mut().enumerate() {

@@ -403,14 +403,10 @@ impl RasterScene {
                     let (x, y) = (q[0] / q[2], q[1] / q[2]);
                     (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
                 }
-                // One pixel of margin against rounding.
-                let px = |c: f32, f: f32, x: f32, n: usize| (c + f * x).clamp(1.0, n as f32 - 2.0);
-                [
-                    floor_small(px(view.cx, view.fx, x0, view.w)) as u16 - 1,
-                    ceil_small(px(view.cx, view.fx, x1, view.w)) as u16 + 1,
-                    floor_small(px(view.cy, view.fy, y0, view.h)) as u16 - 1,
-                    ceil_small(px(view.cy, view.fy, y1, view.h)) as u16 + 1,
-                ]
+                // One pixel of margin against rounding, then limited to the image (n >= 1 px).
+                let lo = |c: f32, f: f32, x: f32, n: usize| (floor_small((c + f * x).clamp(-1.0, n as f32)) - 1).clamp(0, n as i32 - 1) as u16;
+                let hi = |c: f32, f: f32, x: f32, n: usize| (ceil_small((c + f * x).clamp(-1.0, n as f32)) + 1).clamp(0, n as i32 - 1) as u16;
+                [lo(view.cx, view.fx, x0, view.w), hi(view.cx, view.fx, x1, view.w), lo(view.cy, view.fy, y0, view.h), hi(view.cy, view.fy, y1, view.h)]
             };
             vis.push(Vis { idx: idx as u32, zmin, rect });
         }

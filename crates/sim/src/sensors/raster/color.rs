@@ -65,6 +65,9 @@ impl RasterScene {
     /// The depth image ([`RasterScene::render_depth`], to the bit) and the colour image
     /// ([`RasterScene::render_rgb`]) of one view, from one rasterisation.
     pub fn render_depth_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> (DepthImage, Vec<u8>) {
+        if cam.width == 0 || cam.height == 0 {
+            return (DepthImage { width: cam.width, height: cam.height, data: Vec::new() }, Vec::new());
+        }
         let (zb, ids) = self.render_strips(base, floor_z, cam, STRIPS);
         let far = cam.max_depth as f32;
         let depth = DepthImage { width: cam.width, height: cam.height, data: zb.iter().map(|&z| depth_of(z, far)).collect() };
