@@ -92,6 +92,7 @@ fn rendering_is_deterministic_single_batched_on_one_thread_and_with_colour() {
         assert_eq!(bits(&a), bits(&one.install(|| rs.render_depth(p, z, &cam))));
         assert_eq!(bits(&a), bits(&four.install(|| rs.render_depth(p, z, &cam))));
         assert_eq!(rs.render_rgb(p, z, &cam), one.install(|| rs.render_rgb(p, z, &cam)));
+        assert_eq!(rs.render_rgb(p, z, &cam), four.install(|| rs.render_rgb(p, z, &cam)));
         // Depth and colour from one rasterisation: the same depth to the bit, the same colour.
         let (d, c) = rs.render_depth_rgb(p, z, &cam);
         assert_eq!(bits(&a), bits(&d));

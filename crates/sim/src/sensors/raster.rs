@@ -18,10 +18,10 @@
 //! (linear in the image) is interpolated from the triangle's plane, and a buffer keeps the
 //! nearest.
 //!
-//! A single depth view deals its clusters to one buffer per thread and keeps the nearest of
-//! them (`depth.rs`); a colour view is split into column strips rendered in parallel, keeps
-//! the triangle id beside the inverse depth (so its depth is the depth image to the bit) and
-//! shades each pixel from its triangle (`color.rs`); a batch renders one view per task.
+//! A single view deals its clusters to one buffer per thread and keeps the nearest of them
+//! (`depth.rs`). A colour view keeps the triangle id beside the inverse depth (so its depth
+//! is the depth image to the bit), equally near triangles settled by the smaller id, and
+//! shades each pixel from its triangle (`color.rs`). A batch renders one view per task.
 //! Results do not depend on the number of threads.
 
 use super::camera::CameraParams;
@@ -41,8 +41,6 @@ use corners::{ClusterCorners, ViewCorners, MARGIN};
 const CLUSTER: usize = 96;
 /// Near plane for bounding boxes (m): surfaces closer than this may be missed.
 const NEAR: f32 = 1e-3;
-/// Column strips that one colour view is split into, rendered in parallel.
-const STRIPS: usize = 2;
 
 /// One scene triangle: corners in the world frame (m).
 #[derive(Clone, Copy)]
@@ -117,12 +115,11 @@ struct View {
 }
 
 impl View {
-    /// The view of the columns `c0..c1` of the camera's image, as an image of their width.
-    fn new(base: Pose2, floor_z: f64, cam: &CameraParams, c0: usize, c1: usize) -> View {
-        let mut k = cam.intrinsics();
-        k.cx -= c0 as f64;
+    /// The camera's view from the robot at `base` on the floor at `floor_z` (m).
+    fn new(base: Pose2, floor_z: f64, cam: &CameraParams) -> View {
+        let k = cam.intrinsics();
         let (s, c) = base.yaw.sin_cos();
-        let (w, h) = (c1 - c0, cam.height);
+        let (w, h) = (cam.width, cam.height);
         View {
             o: [base.x as f32, base.y as f32, (floor_z + cam.mount_height) as f32],
             s: s as f32,
@@ -320,22 +317,6 @@ trait Target {
     fn hiz(&self, view: &View) -> HiZ;
 }
 
-/// A whole view's inverse depth (rows of `view.w`) and the triangle id at each pixel (for colour).
-struct IdTarget {
-    zb: Vec<f32>,
-    ids: Vec<u32>,
-}
-
-impl Target for IdTarget {
-    fn draw(&mut self, view: &View, tris: &[Setup]) {
-        span::raster_ids(view, tris, &mut self.zb, &mut self.ids);
-    }
-
-    fn hiz(&self, view: &View) -> HiZ {
-        HiZ::new(view, self.zb.chunks(view.w))
-    }
-}
-
 impl RasterScene {
     /// Gathers the scene's triangles into clusters; `None` for a scene without triangles.
     pub fn new(scene: &Scene) -> Option<RasterScene> {
@@ -414,6 +395,14 @@ impl RasterScene {
         vis
     }
 
+    /// The clusters in view dealt round-robin, in nearest-first order, to at most `parts`
+    /// lists (at least one), so that each list has near and far clusters alike.
+    fn deal(&self, view: &View, parts: usize) -> Vec<Vec<Vis>> {
+        let vis = self.visible(view);
+        let parts = parts.clamp(1, vis.len().max(1));
+        (0..parts).map(|k| vis.iter().skip(k).step_by(parts).copied().collect()).collect()
+    }
+
     /// Sets up the triangles of the clusters `vis`, appending to `out`; `vc` is scratch.
     fn setup_clusters(&self, view: &View, vis: &[Vis], out: &mut Vec<Setup>, vc: &mut ViewCorners) {
         for v in vis {
@@ -432,11 +421,6 @@ impl RasterScene {
         }
     }
 
-    /// Draws the clusters in view into `target` ([`RasterScene::render_clusters`]).
-    fn render_view<T: Target>(&self, view: &View, target: &mut T) {
-        self.render_clusters(view, &self.visible(view), target);
-    }
-
     /// Draws the clusters `vis` (nearest first) into `target`; after the nearest quarter,
     /// those behind what is drawn over their whole rectangle are skipped.
     fn render_clusters<T: Target>(&self, view: &View, vis: &[Vis], target: &mut T) {
@@ -452,38 +436,6 @@ impl RasterScene {
             self.setup_clusters(view, &rest, &mut tris, &mut vc);
             target.draw(view, &tris);
         }
-    }
-
-    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids of one view
-    /// (or column strip).
-    fn render_inv(&self, view: &View) -> (Vec<f32>, Vec<u32>) {
-        let n = view.w * view.h;
-        let mut t = IdTarget { zb: vec![1.0 / view.far; n], ids: vec![u32::MAX; n] };
-        self.render_view(view, &mut t);
-        (t.zb, t.ids)
-    }
-
-    /// Inverse depth and triangle ids of the whole image, rendered in `strips` column strips
-    /// in parallel.
-    fn render_strips(&self, base: Pose2, floor_z: f64, cam: &CameraParams, strips: usize) -> (Vec<f32>, Vec<u32>) {
-        let (w, h) = (cam.width, cam.height);
-        let strips = strips.clamp(1, w.max(1));
-        if strips == 1 {
-            return self.render_inv(&View::new(base, floor_z, cam, 0, w));
-        }
-        let edges: Vec<usize> = (0..=strips).map(|i| i * w / strips).collect();
-        let parts: Vec<(Vec<f32>, Vec<u32>)> =
-            (0..strips).into_par_iter().map(|i| self.render_inv(&View::new(base, floor_z, cam, edges[i], edges[i + 1]))).collect();
-        let mut zb = vec![0f32; w * h];
-        let mut ids = vec![0u32; w * h];
-        for (i, (z, id)) in parts.iter().enumerate() {
-            let (c0, sw) = (edges[i], edges[i + 1] - edges[i]);
-            for v in 0..h {
-                zb[v * w + c0..][..sw].copy_from_slice(&z[v * sw..][..sw]);
-                ids[v * w + c0..][..sw].copy_from_slice(&id[v * sw..][..sw]);
-            }
-        }
-        (zb, ids)
     }
 
     /// Renders the depth image seen from the robot at `base` standing on the floor at

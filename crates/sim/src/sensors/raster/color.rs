@@ -1,10 +1,10 @@
 //! Colour images: the nearest triangle's id at every pixel (drawn by the same row spans as
-//! depth), then each pixel shaded by the colour rule of [`crate::sensors::surface`]. What a
+//! depth, the clusters dealt to one buffer per thread as for depth), then each pixel shaded by the colour rule of [`crate::sensors::surface`]. What a
 //! pixel needs of its triangle (normal, the plane's barycentric basis) is worked out once per
 //! run of pixels that see the same triangle, not once per pixel.
 
-use super::depth::depth_of;
-use super::{RasterScene, STRIPS};
+use super::depth::{depth_of, MERGE_ROWS};
+use super::{span, HiZ, RasterScene, Setup, Target, View, Vis};
 use crate::sensors::camera::CameraParams;
 use crate::sensors::surface::shade;
 use rayon::prelude::*;
@@ -51,7 +51,52 @@ impl TriShading {
     }
 }
 
+/// A view's inverse depth (1/m, rows of `view.w`) and the triangle seen at each pixel.
+struct Ids {
+    zb: Vec<f32>,
+    ids: Vec<u32>,
+}
+
+impl Target for Ids {
+    fn draw(&mut self, view: &View, tris: &[Setup]) {
+        span::raster_ids(view, tris, &mut self.zb, &mut self.ids);
+    }
+
+    fn hiz(&self, view: &View) -> HiZ {
+        HiZ::new(view, self.zb.chunks(view.w))
+    }
+}
+
 impl RasterScene {
+    /// Inverse depth (1/m, `1 / max_depth` where nothing is hit) and triangle ids (`u32::MAX`
+    /// where none) of a view, its clusters dealt to `parts` buffers drawn in parallel and
+    /// merged as each buffer keeps its pixels (the nearest, then the smaller id), so the
+    /// result does not depend on `parts`.
+    fn ids(&self, view: &View, parts: usize) -> (Vec<f32>, Vec<u32>) {
+        let (w, n) = (view.w, view.w * view.h);
+        let draw = |mine: &Vec<Vis>| {
+            let mut t = Ids { zb: vec![1.0 / view.far; n], ids: vec![u32::MAX; n] };
+            self.render_clusters(view, mine, &mut t);
+            t
+        };
+        let lists = self.deal(view, parts);
+        let mut bufs: Vec<Ids> = if lists.len() == 1 { vec![draw(&lists[0])] } else { lists.par_iter().map(draw).collect() };
+        let Ids { mut zb, mut ids } = bufs.swap_remove(0);
+        let rows = w * MERGE_ROWS;
+        zb.par_chunks_mut(rows).zip(ids.par_chunks_mut(rows)).enumerate().for_each(|(i, (zc, ic))| {
+            for b in &bufs {
+                for (j, (z, id)) in zc.iter_mut().zip(ic.iter_mut()).enumerate() {
+                    let (oz, oid) = (b.zb[i * rows + j], b.ids[i * rows + j]);
+                    if oz > *z || (oz == *z && oid < *id) {
+                        *z = oz;
+                        *id = oid;
+                    }
+                }
+            }
+        });
+        (zb, ids)
+    }
+
     /// Renders the colour image seen from the robot at `base` (RGB bytes, row-major, top row
     /// first), as [`crate::sensors::render_rgb`] does: the base colour of the nearest triangle
     /// at the pixel's ray (factor times texture, the texture coordinates interpolated from
@@ -68,7 +113,7 @@ impl RasterScene {
         if cam.width == 0 || cam.height == 0 {
             return (DepthImage { width: cam.width, height: cam.height, data: Vec::new() }, Vec::new());
         }
-        let (zb, ids) = self.render_strips(base, floor_z, cam, STRIPS);
+        let (zb, ids) = self.ids(&View::new(base, floor_z, cam), rayon::current_num_threads());
         let far = cam.max_depth as f32;
         let depth = DepthImage { width: cam.width, height: cam.height, data: zb.iter().map(|&z| depth_of(z, far)).collect() };
         let k = cam.intrinsics();

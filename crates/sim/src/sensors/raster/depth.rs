@@ -4,13 +4,13 @@
 //! the order of drawing, so the image is the one-buffer image to the bit, whatever the number
 //! of threads; and unlike splitting the image, no cluster is set up twice.
 
-use super::{span, HiZ, RasterScene, Setup, Target, View};
+use super::{span, HiZ, RasterScene, Setup, Target, View, Vis};
 use crate::sensors::camera::CameraParams;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
 /// Rows merged and converted per task.
-const MERGE_ROWS: usize = 32;
+pub(super) const MERGE_ROWS: usize = 32;
 
 /// An image's rows, holding inverse depth (1/m) while drawing.
 struct Rows<'a> {
@@ -35,16 +35,14 @@ impl RasterScene {
         if w == 0 || h == 0 {
             return DepthImage { width: w, height: h, data: Vec::new() };
         }
-        let view = View::new(base, floor_z, cam, 0, w);
-        let vis = self.visible(&view);
-        let parts = parts.clamp(1, vis.len().max(1));
-        let draw = |k: usize| {
-            let mine: Vec<_> = vis.iter().skip(k).step_by(parts).copied().collect();
+        let view = View::new(base, floor_z, cam);
+        let lists = self.deal(&view, parts);
+        let draw = |mine: &Vec<Vis>| {
             let mut data = vec![1.0 / view.far; w * h];
-            self.render_clusters(&view, &mine, &mut Rows { rows: data.chunks_mut(w).collect() });
+            self.render_clusters(&view, mine, &mut Rows { rows: data.chunks_mut(w).collect() });
             data
         };
-        let mut bufs: Vec<Vec<f32>> = if parts == 1 { vec![draw(0)] } else { (0..parts).into_par_iter().map(draw).collect() };
+        let mut bufs: Vec<Vec<f32>> = if lists.len() == 1 { vec![draw(&lists[0])] } else { lists.par_iter().map(draw).collect() };
         let mut data = bufs.swap_remove(0);
         let far = view.far;
         data.par_chunks_mut(w * MERGE_ROWS).enumerate().for_each(|(i, chunk)| {

@@ -64,8 +64,9 @@ pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]])
 }
 
 /// Rasterises `tris` into the inverse depth `zb` (1/m, rows of `view.w`) and the triangle ids
-/// `ids`, keeping the nearest: the same pixels and the same values as [`raster_depth`], so a
-/// colour render's depth is the depth render's to the bit.
+/// `ids`, keeping the nearest, and of equally near ones the smaller id (so the result does
+/// not depend on the order of drawing): the same pixels and the same inverse depths as
+/// [`raster_depth`], so a colour render's depth is the depth render's to the bit.
 pub(super) fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut [u32]) {
     let w = view.w;
     for_each_span(view, tris, |t, v, lo, hi, x0, gz| {
@@ -73,7 +74,7 @@ pub(super) fn raster_ids(view: &View, tris: &[Setup], zb: &mut [f32], ids: &mut 
         let cols = v * w + lo..=v * w + hi;
         for (i, (z, id)) in zb[cols.clone()].iter_mut().zip(&mut ids[cols]).enumerate() {
             let iz = za * (x0 + i as i32 as f32) + gz;
-            if iz > *z {
+            if iz > *z || (iz == *z && t.id < *id) {
                 *z = iz;
                 *id = t.id;
             }
