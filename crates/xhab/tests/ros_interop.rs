@@ -65,7 +65,8 @@ fn bench_over_ros_equals_the_in_process_run() {
     let eps = dir.join("eps.json.gz");
     let st = xhab().args(["episodes", "procedural:5", "--count", "6", "--seed", "2", "--out"]).arg(&eps).status().unwrap();
     assert!(st.success());
-    let depth = ["--agent", "nav", "--localization", "amcl", "--scan-source", "depth", "--sensors", "depth", "--resolution", "96", "--renderer", "raster"];
+    // Scans flattened from the observed (noisy) depth frames, in-process and over ROS alike.
+    let depth = ["--agent", "nav", "--localization", "amcl", "--scan-source", "depth", "--sensors", "depth", "--resolution", "96", "--renderer", "raster", "--depth-noise", "0.005"];
     for extra in [&[][..], &["--physics"][..], &["--agent", "nav", "--localization", "amcl"][..], &depth[..]] {
         let out = dir.join("r.json");
         let st = xhab()

@@ -152,14 +152,22 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             let mut seq = 0u32;
             while !env.is_done() {
                 let t = episode_time(env.sim_s());
+                // The step's camera frame first: a depth scan source flattens it, as in-process.
+                let frame = match cfg.sensors.as_deref() {
+                    Some(rig) => Some((rig, crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, seq as u64, &mut stats).map_err(RosError::Node)?)),
+                    None => None,
+                };
                 let scan = match sensor.as_mut() {
                     Some(s) if sched.due(t) => {
                         sched.taken += 1;
-                        Some(s.scan(env.pose(), grid.floor_z).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
+                        let seen = frame.as_ref().map(|(r, f)| (*r, f));
+                        Some(s.scan_seen(env.pose(), grid.floor_z, seen).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
                     }
                     _ => None,
                 };
-                camera!(seq, stamp(t), env.pose());
+                if let Some((rig, f)) = &frame {
+                    sim.publish_frame(seq, stamp(t), &rig.params, f).await?;
+                }
                 let st = RobotState { seq, stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period, laser_z)) };
                 sim.publish_state(&st).await?;
                 match sim.next_command().await? {
