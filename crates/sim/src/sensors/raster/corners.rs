@@ -59,12 +59,10 @@ pub(super) struct ViewCorners {
     z: Vec<f32>,
     /// Bit 0: behind the near plane; bit 1: beyond `max_depth`.
     code: Vec<u8>,
-    /// First column, last column, first row, last row of the pixel centres within the
-    /// bounding-box margin of the corner's projection, clamped to the image.
-    u0: Vec<i32>,
-    u1: Vec<i32>,
-    v0: Vec<i32>,
-    v1: Vec<i32>,
+    /// First column, minus the last column, first row, minus the last row of the pixel
+    /// centres within the bounding-box margin of the corner's projection, clamped to the
+    /// image: a triangle's box is the element-wise minimum of its corners' (one vector op).
+    px: Vec<[i16; 4]>,
 }
 
 /// Margin of triangle bounding boxes (px), against rounding.
@@ -76,12 +74,9 @@ impl ViewCorners {
         for a in [&mut self.x, &mut self.y, &mut self.z] {
             a.resize(n, 0.0);
         }
-        for a in [&mut self.u0, &mut self.u1, &mut self.v0, &mut self.v1] {
-            a.resize(n, 0);
-        }
+        self.px.resize(n, [0; 4]);
         self.code.resize(n, 0);
-        let (x, y, z, code) = (&mut self.x[..n], &mut self.y[..n], &mut self.z[..n], &mut self.code[..n]);
-        let (u0, u1, v0, v1) = (&mut self.u0[..n], &mut self.u1[..n], &mut self.v0[..n], &mut self.v1[..n]);
+        let (x, y, z, code, px) = (&mut self.x[..n], &mut self.y[..n], &mut self.z[..n], &mut self.code[..n], &mut self.px[..n]);
         let (wy, wz) = (&wy[..n], &wz[..n]);
         let (wf, hf) = (view.w as f32, view.h as f32);
         let (wm, hm) = (view.w as i32 - 1, view.h as i32 - 1);
@@ -92,10 +87,12 @@ impl ViewCorners {
             let r = 1.0 / q[2];
             let (u, v) = (view.cx + view.fx * (q[0] * r), view.cy + view.fy * (q[1] * r));
             // Rounding and clamping are monotone, so a triangle's box is the min / max of these.
-            u0[i] = ceil_small(clamp(u - MARGIN, -1.0, wf)).max(0);
-            u1[i] = floor_small(clamp(u + MARGIN, -1.0, wf)).min(wm);
-            v0[i] = ceil_small(clamp(v - MARGIN, -1.0, hf)).max(0);
-            v1[i] = floor_small(clamp(v + MARGIN, -1.0, hf)).min(hm);
+            px[i] = [
+                ceil_small(clamp(u - MARGIN, -1.0, wf)).max(0) as i16,
+                -(floor_small(clamp(u + MARGIN, -1.0, wf)).min(wm) as i16),
+                ceil_small(clamp(v - MARGIN, -1.0, hf)).max(0) as i16,
+                -(floor_small(clamp(v + MARGIN, -1.0, hf)).min(hm) as i16),
+            ];
         }
     }
 
@@ -119,9 +116,9 @@ impl ViewCorners {
         if any != 0 {
             return Ok(None);
         }
-        let min3 = |t: &[i32]| t[a].min(t[b]).min(t[c]);
-        let max3 = |t: &[i32]| t[a].max(t[b]).max(t[c]);
-        Ok(Some([min3(&self.u0), max3(&self.u1), min3(&self.v0), max3(&self.v1)]))
+        let (pa, pb, pc) = (self.px[a], self.px[b], self.px[c]);
+        let m: [i16; 4] = std::array::from_fn(|k| pa[k].min(pb[k]).min(pc[k]));
+        Ok(Some([m[0] as i32, -(m[1] as i32), m[2] as i32, -(m[3] as i32)]))
     }
 }
 
