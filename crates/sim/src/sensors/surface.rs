@@ -80,7 +80,7 @@ impl Surfaces {
         let bary = bary();
         let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
         let s = sample_bilinear(tex, uv);
-        [0, 1, 2].map(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
+        std::array::from_fn(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
     }
 }
 
