@@ -164,18 +164,19 @@ impl View {
     }
 }
 
+/// Largest whole number <= `x` for `|x| < 2^23`, without a libm call (saturating beyond the
+/// `i32` range, 0 for NaN).
+#[inline(always)]
+pub(crate) fn floor_i32(x: f32) -> i32 {
+    let i = x as i32;
+    i - ((i as f32) > x) as i32
+}
+
 /// Smallest whole number >= `x`, for `x` in [-1, 2^23].
 #[inline(always)]
 fn ceil_small(x: f32) -> i32 {
     let i = x as i32;
     i + ((i as f32) < x) as i32
-}
-
-/// Largest whole number <= `x`, for `x` in [-1, 2^23].
-#[inline(always)]
-fn floor_small(x: f32) -> i32 {
-    let i = x as i32;
-    i - ((i as f32) > x) as i32
 }
 
 /// A cluster in view: index, nearest depth (m), pixel rectangle `[u0, u1, v0, v1]` inclusive.
@@ -197,11 +198,11 @@ struct HiZ {
 }
 
 impl HiZ {
-    /// The tiles of the inverse depth `rows` (the view's image rows).
-    fn new<'a>(view: &View, rows: impl Iterator<Item = &'a [f32]>) -> HiZ {
+    /// The tiles of the view's inverse depth `zb` (rows of `view.w`).
+    fn new(view: &View, zb: &[f32]) -> HiZ {
         let tw = view.w.div_ceil(TILE);
         let mut min_inv = vec![f32::INFINITY; tw * view.h.div_ceil(TILE)];
-        for (v, row) in rows.enumerate() {
+        for (v, row) in zb.chunks(view.w).enumerate() {
             let t = &mut min_inv[v / TILE * tw..][..tw];
             for (i, chunk) in row.chunks(TILE).enumerate() {
                 t[i] = chunk.iter().fold(t[i], |m, &z| m.min(z));
@@ -267,9 +268,9 @@ fn clipped_bbox(view: &View, p: [[f32; 3]; 3]) -> Option<[i32; 4]> {
     let (wm, hm) = (view.w as i32 - 1, view.h as i32 - 1);
     Some([
         ceil_small((x0 - MARGIN).clamp(-1.0, view.w as f32)).max(0),
-        floor_small((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
+        floor_i32((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
         ceil_small((y0 - MARGIN).clamp(-1.0, view.h as f32)).max(0),
-        floor_small((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
+        floor_i32((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
     ])
 }
 
@@ -309,13 +310,17 @@ fn setup(view: &View, p: [[f32; 3]; 3], bbox: Option<[i32; 4]>, id: u32) -> Opti
     })
 }
 
-/// What a view is drawn into: an inverse depth buffer that keeps the nearest, and its tiles.
+/// What a view is drawn into: an inverse depth buffer (rows of `view.w`) that keeps the
+/// nearest, and whatever else the image needs.
 trait Target {
     /// Rasterises set-up triangles.
     fn draw(&mut self, view: &View, tris: &[Setup]);
-    /// The farthest inverse depth drawn in each tile.
-    fn hiz(&self, view: &View) -> HiZ;
+    /// The inverse depth drawn so far (1/m).
+    fn zb(&self) -> &[f32];
 }
+
+/// Rows merged (and converted) per task when the buffers of one view are merged.
+const MERGE_ROWS: usize = 32;
 
 impl RasterScene {
     /// Gathers the scene's triangles into clusters; `None` for a scene without triangles.
@@ -385,7 +390,7 @@ impl RasterScene {
                     (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
                 }
                 // One pixel of margin against rounding, then limited to the image (n >= 1 px).
-                let lo = |c: f32, f: f32, x: f32, n: usize| (floor_small((c + f * x).clamp(-1.0, n as f32)) - 1).clamp(0, n as i32 - 1) as u16;
+                let lo = |c: f32, f: f32, x: f32, n: usize| (floor_i32((c + f * x).clamp(-1.0, n as f32)) - 1).clamp(0, n as i32 - 1) as u16;
                 let hi = |c: f32, f: f32, x: f32, n: usize| (ceil_small((c + f * x).clamp(-1.0, n as f32)) + 1).clamp(0, n as i32 - 1) as u16;
                 [lo(view.cx, view.fx, x0, view.w), hi(view.cx, view.fx, x1, view.w), lo(view.cy, view.fy, y0, view.h), hi(view.cy, view.fy, y1, view.h)]
             };
@@ -395,12 +400,23 @@ impl RasterScene {
         vis
     }
 
-    /// The clusters in view dealt round-robin, in nearest-first order, to at most `parts`
-    /// lists (at least one), so that each list has near and far clusters alike.
-    fn deal(&self, view: &View, parts: usize) -> Vec<Vec<Vis>> {
+    /// Draws the clusters in view into up to `parts` targets that `make` gives (at least one;
+    /// in parallel when more than one), the clusters dealt round-robin in nearest-first order
+    /// so that each target gets near and far ones alike. The caller merges the targets.
+    fn draw_dealt<T: Target + Send>(&self, view: &View, parts: usize, make: impl Fn() -> T + Sync) -> Vec<T> {
         let vis = self.visible(view);
         let parts = parts.clamp(1, vis.len().max(1));
-        (0..parts).map(|k| vis.iter().skip(k).step_by(parts).copied().collect()).collect()
+        let draw = |k: usize| {
+            let mine: Vec<Vis> = vis.iter().skip(k).step_by(parts).copied().collect();
+            let mut t = make();
+            self.render_clusters(view, &mine, &mut t);
+            t
+        };
+        if parts == 1 {
+            vec![draw(0)]
+        } else {
+            (0..parts).into_par_iter().map(draw).collect()
+        }
     }
 
     /// Sets up the triangles of the clusters `vis`, appending to `out`; `vc` is scratch.
@@ -430,7 +446,7 @@ impl RasterScene {
         self.setup_clusters(view, &vis[..split], &mut tris, &mut vc);
         target.draw(view, &tris);
         if split < vis.len() {
-            let hiz = target.hiz(view);
+            let hiz = HiZ::new(view, target.zb());
             let rest: Vec<Vis> = vis[split..].iter().filter(|v| !hiz.occludes(v)).copied().collect();
             tris.clear();
             self.setup_clusters(view, &rest, &mut tris, &mut vc);

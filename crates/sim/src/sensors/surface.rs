@@ -5,12 +5,15 @@
 //! sampler without mipmaps: bilinear between the four nearest texels (centres at half-integer
 //! texel positions), each wrapped by the texture's wrap modes, after decoding the texels from
 //! sRGB to linear (a 256-entry table, shared with the GPU). The product is encoded back to
-//! sRGB bytes by a binary search in the table of the 255 linear values half way between
-//! consecutive bytes (also shared with the GPU, so no `pow` differs between them). A pixel is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the
-//! camera ray and the surface normal, rounded to bytes. Alpha is ignored (opaque materials).
+//! sRGB bytes by where it falls among the 255 linear values half way between consecutive
+//! bytes (also shared with the GPU, so no `pow` differs between them; the shader searches
+//! them in binary, the CPU starts from a table of 4,096 bins, with the same answer). A pixel
+//! is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the camera ray and the
+//! surface normal, rounded to bytes. Alpha is ignored (opaque materials).
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
 
+use super::raster::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
 
@@ -143,14 +146,6 @@ fn encode_by_search(x: f32) -> u8 {
     c as u8
 }
 
-/// Largest whole number <= `x` (saturating beyond the `i32` range, 0 for NaN), without a
-/// libm call.
-#[inline(always)]
-fn floor_i32(x: f32) -> i32 {
-    let i = x as i32;
-    i - ((i as f32) > x) as i32
-}
-
 /// The texture's linear RGB at texture coordinates `uv` (bilinear, wrapped; see the module).
 pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     let lut = srgb_table();
@@ -171,23 +166,54 @@ pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     })
 }
 
-/// Barycentric weights (of corners 0, 1, 2) of the point where the line `origin + t dir` meets
-/// the plane of triangle `v` (world, m); the centroid for a ray parallel to the plane or a
-/// degenerate triangle. Perspective-correct by construction.
-pub(crate) fn barycentric(v: &[[f32; 3]; 3], origin: [f64; 3], dir: [f64; 3]) -> [f64; 3] {
-    let a = v[0].map(|x| x as f64);
-    let sub = |p: [f32; 3]| [p[0] as f64 - a[0], p[1] as f64 - a[1], p[2] as f64 - a[2]];
-    let (e1, e2) = (sub(v[1]), sub(v[2]));
-    let n = cross(e1, e2);
-    let (denom, nn) = (dot(n, dir), dot(n, n));
-    let oa = [origin[0] - a[0], origin[1] - a[1], origin[2] - a[2]];
-    let t = -dot(n, oa) / denom;
-    let ap = [oa[0] + t * dir[0], oa[1] + t * dir[1], oa[2] + t * dir[2]];
-    let (b1, b2) = (dot(cross(ap, e2), n) / nn, dot(cross(e1, ap), n) / nn);
-    if !(b1.is_finite() && b2.is_finite()) {
-        return [1.0 / 3.0; 3];
+/// A triangle's plane seen from a camera origin (world frame, f64), worked out once for the
+/// rays from that origin: a ray `origin + t dir` meets it at `t = -n_oa / (n . dir)`, at the
+/// point `oa + t dir` relative to corner 0, whose weights of corners 1 and 2 are its dot
+/// products with `m1` and `m2`.
+pub(crate) struct TrianglePlane {
+    /// Normal (not unit, m^2) and its length.
+    pub n: [f64; 3],
+    pub ln: f64,
+    /// The origin relative to corner 0 (m), and `n . oa`.
+    oa: [f64; 3],
+    n_oa: f64,
+    /// `(e2 x n) / |n|^2` and `(n x e1) / |n|^2`, with `e1`, `e2` the edges from corner 0.
+    m1: [f64; 3],
+    m2: [f64; 3],
+}
+
+impl TrianglePlane {
+    /// The plane of triangle `v` (world, m) seen from `origin`.
+    pub fn new(v: &[[f32; 3]; 3], origin: [f64; 3]) -> TrianglePlane {
+        let a = v[0].map(|x| x as f64);
+        let sub = |p: [f32; 3]| [p[0] as f64 - a[0], p[1] as f64 - a[1], p[2] as f64 - a[2]];
+        let (e1, e2) = (sub(v[1]), sub(v[2]));
+        let n = cross(e1, e2);
+        let nn = dot(n, n);
+        let oa = [origin[0] - a[0], origin[1] - a[1], origin[2] - a[2]];
+        TrianglePlane { n, ln: nn.sqrt().max(1e-300), oa, n_oa: dot(n, oa), m1: cross(e2, n).map(|x| x / nn), m2: cross(n, e1).map(|x| x / nn) }
     }
-    [1.0 - b1 - b2, b1, b2]
+
+    /// Barycentric weights (of corners 0, 1, 2) where the ray along `dir` meets the plane,
+    /// given `denom = n . dir`; the centroid for a ray parallel to the plane or a degenerate
+    /// triangle. Perspective-correct by construction.
+    #[inline]
+    pub fn barycentric(&self, dir: [f64; 3], denom: f64) -> [f64; 3] {
+        let t = -self.n_oa / denom;
+        let ap = [self.oa[0] + t * dir[0], self.oa[1] + t * dir[1], self.oa[2] + t * dir[2]];
+        let (b1, b2) = (dot(ap, self.m1), dot(ap, self.m2));
+        if !(b1.is_finite() && b2.is_finite()) {
+            return [1.0 / 3.0; 3];
+        }
+        [1.0 - b1 - b2, b1, b2]
+    }
+}
+
+/// Barycentric weights (of corners 0, 1, 2) of the point where the line `origin + t dir` meets
+/// the plane of triangle `v` (world, m), as [`TrianglePlane::barycentric`] gives them.
+pub(crate) fn barycentric(v: &[[f32; 3]; 3], origin: [f64; 3], dir: [f64; 3]) -> [f64; 3] {
+    let p = TrianglePlane::new(v, origin);
+    p.barycentric(dir, dot(p.n, dir))
 }
 
 /// A base colour (sRGB bytes) shaded by `0.35 + 0.65 cos`, `cos` in [0, 1] the absolute cosine
@@ -203,7 +229,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+/// Dot product.
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 

@@ -2,7 +2,7 @@
 //! projects each corner once (in a loop the compiler vectorises) instead of three times per
 //! triangle, and rejects triangles from the projected corners.
 
-use super::{ceil_small, floor_small, Cluster, Tri, View, NEAR};
+use super::{ceil_small, floor_i32, Cluster, Tri, View, NEAR};
 use std::collections::HashMap;
 
 /// Each cluster's distinct triangle corners (world frame, m, one array per axis) and, per
@@ -89,9 +89,9 @@ impl ViewCorners {
             // Rounding and clamping are monotone, so a triangle's box is the min / max of these.
             px[i] = [
                 ceil_small(clamp(u - MARGIN, -1.0, wf)).max(0) as i16,
-                -(floor_small(clamp(u + MARGIN, -1.0, wf)).min(wm) as i16),
+                -(floor_i32(clamp(u + MARGIN, -1.0, wf)).min(wm) as i16),
                 ceil_small(clamp(v - MARGIN, -1.0, hf)).max(0) as i16,
-                -(floor_small(clamp(v + MARGIN, -1.0, hf)).min(hm) as i16),
+                -(floor_i32(clamp(v + MARGIN, -1.0, hf)).min(hm) as i16),
             ];
         }
     }

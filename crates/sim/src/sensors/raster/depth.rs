@@ -4,26 +4,21 @@
 //! the order of drawing, so the image is the one-buffer image to the bit, whatever the number
 //! of threads; and unlike splitting the image, no cluster is set up twice.
 
-use super::{span, HiZ, RasterScene, Setup, Target, View, Vis};
+use super::{span, RasterScene, Setup, Target, View, MERGE_ROWS};
 use crate::sensors::camera::CameraParams;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
-/// Rows merged and converted per task.
-pub(super) const MERGE_ROWS: usize = 32;
+/// A view's inverse depth (1/m, rows of `view.w`).
+struct Depth(Vec<f32>);
 
-/// An image's rows, holding inverse depth (1/m) while drawing.
-struct Rows<'a> {
-    rows: Vec<&'a mut [f32]>,
-}
-
-impl Target for Rows<'_> {
+impl Target for Depth {
     fn draw(&mut self, view: &View, tris: &[Setup]) {
-        span::raster_depth(view, tris, &mut self.rows);
+        span::raster_depth(view, tris, &mut self.0);
     }
 
-    fn hiz(&self, view: &View) -> HiZ {
-        HiZ::new(view, self.rows.iter().map(|r| &**r))
+    fn zb(&self) -> &[f32] {
+        &self.0
     }
 }
 
@@ -36,23 +31,17 @@ impl RasterScene {
             return DepthImage { width: w, height: h, data: Vec::new() };
         }
         let view = View::new(base, floor_z, cam);
-        let lists = self.deal(&view, parts);
-        let draw = |mine: &Vec<Vis>| {
-            let mut data = vec![1.0 / view.far; w * h];
-            self.render_clusters(&view, mine, &mut Rows { rows: data.chunks_mut(w).collect() });
-            data
-        };
-        let mut bufs: Vec<Vec<f32>> = if lists.len() == 1 { vec![draw(&lists[0])] } else { lists.par_iter().map(draw).collect() };
-        let mut data = bufs.swap_remove(0);
-        let far = view.far;
-        data.par_chunks_mut(w * MERGE_ROWS).enumerate().for_each(|(i, chunk)| {
-            for b in &bufs {
-                for (z, o) in chunk.iter_mut().zip(&b[i * w * MERGE_ROWS..]) {
+        let mut bufs = self.draw_dealt(&view, parts, || Depth(vec![1.0 / view.far; w * h]));
+        let Depth(mut data) = bufs.swap_remove(0);
+        let rows = w * MERGE_ROWS;
+        data.par_chunks_mut(rows).enumerate().for_each(|(i, chunk)| {
+            for Depth(b) in &bufs {
+                for (z, o) in chunk.iter_mut().zip(&b[i * rows..]) {
                     *z = if *o > *z { *o } else { *z };
                 }
             }
             for z in chunk.iter_mut() {
-                *z = depth_of(*z, far);
+                *z = depth_of(*z, view.far);
             }
         });
         DepthImage { width: w, height: h, data }

@@ -51,12 +51,13 @@ fn for_each_span(view: &View, tris: &[Setup], mut fill: impl FnMut(&Setup, usize
     }
 }
 
-/// Rasterises `tris` into the inverse depth `rows` (1/m, the view's image rows), keeping the
+/// Rasterises `tris` into the inverse depth `zb` (1/m, rows of `view.w`), keeping the
 /// nearest.
-pub(super) fn raster_depth(view: &View, tris: &[Setup], rows: &mut [&mut [f32]]) {
+pub(super) fn raster_depth(view: &View, tris: &[Setup], zb: &mut [f32]) {
+    let w = view.w;
     for_each_span(view, tris, |t, v, lo, hi, x0, gz| {
         let za = t.inv_z[0];
-        for (i, z) in rows[v][lo..=hi].iter_mut().enumerate() {
+        for (i, z) in zb[v * w + lo..=v * w + hi].iter_mut().enumerate() {
             let iz = za * (x0 + i as i32 as f32) + gz;
             *z = if iz > *z { iz } else { *z };
         }
