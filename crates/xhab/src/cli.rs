@@ -142,19 +142,9 @@ pub struct RosSimArgs {
     /// Also publish RGB images.
     #[arg(long)]
     pub rgb: bool,
-    /// Renderer of the camera.
-    #[arg(long, value_enum, default_value_t = RendererArg::Auto)]
-    pub renderer: RendererArg,
-    /// Camera image width and height (px).
-    #[arg(long, default_value_t = 256)]
-    pub resolution: usize,
-    /// Camera horizontal field of view (degrees).
-    #[arg(long, default_value_t = 90.0)]
-    pub hfov: f64,
-    /// Camera height above the floor (m) [default: the robot profile's with --physics, else
-    /// 1.25, Habitat's agent].
-    #[arg(long)]
-    pub camera_height: Option<f64>,
+    /// The camera (renderer, resolution, field of view, height; --batch does not apply).
+    #[command(flatten)]
+    pub cam: CameraOpts,
     /// Depth noise: standard deviation at 1 m (m), growing with depth squared (0 = off).
     #[arg(long, default_value_t = 0.0)]
     pub depth_noise: f64,

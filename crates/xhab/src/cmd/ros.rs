@@ -58,8 +58,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 (None, None) => Some(grid.slice_map(&world.scene, lidar.mount_height, xhab_bridge::nav_agent::SCAN_PLANE_HALF_BAND)),
                 (None, Some(_)) => None,
             };
-            let cam_opts = crate::cli::CameraOpts { renderer: a.renderer, resolution: a.resolution, hfov: a.hfov, camera_height: a.camera_height, batch: None };
-            let cam = super::render::camera(&cam_opts, physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height))?;
+            let cam = super::render::camera(&a.cam, physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height))?;
             let o = LiveOptions {
                 master: master_uri(&a.ros),
                 name: a.ros.name.clone().unwrap_or_else(|| "xhab_sim".into()),
@@ -71,7 +70,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 lidar: Some((rs.clone(), lidar)),
                 scan_period: 0.1,
                 camera: match a.camera {
-                    true => Some((Arc::new(super::render::renderer(&cam_opts, &world.scene)?), cam, a.rgb)),
+                    true => Some((Arc::new(super::render::renderer(&a.cam, &world.scene)?), cam, a.rgb)),
                     false => None,
                 },
                 camera_period: 0.2,
