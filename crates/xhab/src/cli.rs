@@ -92,8 +92,9 @@ pub struct LocalizeArgs {
     pub scene_opts: SceneOpts,
 }
 
-/// `xhab ros ...`.
+/// `xhab ros ...` (parsed once per run: the variants' size difference costs nothing).
 #[derive(Debug, Subcommand)]
+#[allow(clippy::large_enum_variant)]
 pub enum RosCommand {
     /// The simulator as a ROS node (scan, odom, tf, clock, camera, map, ground truth; cmd_vel or action in).
     Sim(RosSimArgs),
