@@ -125,12 +125,17 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     let mut aborted = false;
     let mut end_t = 0.0;
     let mut stats = crate::runner::RenderStats::default();
-    // The step's camera frame (`--sensors`), rendered and published before the step's state.
+    // The step's camera frame (`--sensors`), rendered and published before the step's state;
+    // it evaluates to the frame and its camera (for a depth scan source to flatten).
     macro_rules! camera {
         ($seq:expr, $stamp:expr, $pose:expr) => {
-            if let Some(rig) = cfg.sensors.as_deref() {
-                let f = crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $seq as u64, &mut stats).map_err(RosError::Node)?;
-                sim.publish_frame($seq, $stamp, &rig.params, &f).await?;
+            match cfg.sensors.as_deref() {
+                Some(rig) => {
+                    let f = crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $seq as u64, &mut stats).map_err(RosError::Node)?;
+                    sim.publish_frame($seq, $stamp, &rig.params, &f).await?;
+                    Some((rig, f))
+                }
+                None => None,
             }
         };
     }
@@ -153,10 +158,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             while !env.is_done() {
                 let t = episode_time(env.sim_s());
                 // The step's camera frame first: a depth scan source flattens it, as in-process.
-                let frame = match cfg.sensors.as_deref() {
-                    Some(rig) => Some((rig, crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, seq as u64, &mut stats).map_err(RosError::Node)?)),
-                    None => None,
-                };
+                let frame = camera!(seq, stamp(t), env.pose());
                 let scan = match sensor.as_mut() {
                     Some(s) if sched.due(t) => {
                         sched.taken += 1;
@@ -165,9 +167,6 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                     }
                     _ => None,
                 };
-                if let Some((rig, f)) = &frame {
-                    sim.publish_frame(seq, stamp(t), &rig.params, f).await?;
-                }
                 let st = RobotState { seq, stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period, laser_z)) };
                 sim.publish_state(&st).await?;
                 match sim.next_command().await? {
