@@ -12,7 +12,7 @@ use xhab_sim::env::{EnvView, TaskConfig};
 use xhab_sim::episode::Episode;
 use xhab_sim::physics_env::PhysicsEnv;
 use xhab_sim::world::World;
-use xhab_types::{OccupancyGrid, Pose2};
+use xhab_types::OccupancyGrid;
 
 /// How the trials run.
 #[derive(Debug, Clone)]
@@ -70,6 +70,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
     let task = TaskConfig { max_episode_steps: u32::MAX, ..Default::default() };
     let mut env = PhysicsEnv::new(grid.clone(), &physics.scene, ep, task, &physics.profile, physics.config.clone(), seed).ok()?;
     let mut sensor = setup.scan.as_ref()?.sensor(seed);
+    let mount = setup.scan.as_ref()?.mount();
     let mut amcl = Amcl::new(&amcl_map, setup.params.amcl.clone(), seed);
     amcl.global_init();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x9e37_79b9_7f4a_7c15);
@@ -96,7 +97,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
             None
         };
         if let Some(s) = &scan {
-            if amcl.update(env.odometry(), s, Pose2::default()) {
+            if amcl.update(env.odometry(), s, mount) {
                 updates += 1;
                 let est = amcl.estimate().pose;
                 let truth = env.pose();
@@ -106,7 +107,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
                 }
             }
         }
-        let inp = NavInputs { t: t - t0, odom: env.odometry(), twist: env.robot().twist(), truth: Some(env.pose()), scan: scan.as_ref() };
+        let inp = NavInputs { t: t - t0, odom: env.odometry(), twist: env.robot().twist(), truth: Some(env.pose()), scan: scan.as_ref(), scan_mount: mount };
         match brain.step(inp) {
             NavReply::Drive(tw) => env.step_twist(tw, period),
             NavReply::Stop | NavReply::Abort => {

@@ -115,6 +115,8 @@ pub struct NavInputs<'a> {
     pub truth: Option<Pose2>,
     /// The scan taken at this step, if one is due (see [`NavBrain::scan_due`]).
     pub scan: Option<&'a xhab_types::LaserScan>,
+    /// Where the scan's origin sits on the base (m, rad): base_link -> the scan's frame.
+    pub scan_mount: Pose2,
 }
 
 impl NavBrain {
@@ -134,6 +136,30 @@ impl NavBrain {
         NavBrain { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0 }
     }
 
+    /// A new goal (m, map frame) at time `now` (s): the filter and the costmaps live on.
+    pub fn set_goal(&mut self, goal: xhab_types::Point2, now: f64) {
+        self.nav.set_goal(goal, now);
+    }
+
+    /// A new pose estimate (`initialpose`): the robot is at `pose` (map frame) while
+    /// odometry reads `odom`; AMCL restarts there with `spread` (m, rad).
+    pub fn set_initial_pose(&mut self, pose: Pose2, odom: Pose2, spread: (f64, f64)) {
+        self.map_to_odom = pose.compose(odom.inverse());
+        if let Some(a) = self.amcl.as_mut() {
+            a.init(pose, spread.0, spread.1);
+        }
+    }
+
+    /// Replaces the navigation map (a new `map` message).
+    pub fn set_map(&mut self, map: &OccupancyGrid) {
+        self.nav.set_map(map);
+    }
+
+    /// Clears the obstacle marks (move_base's `clear_costmaps`).
+    pub fn clear_costmaps(&mut self) {
+        self.nav.clear_costmaps();
+    }
+
     /// Whether a scan is due at episode time `t` (s) (see [`ScanSchedule`]).
     pub fn scan_due(&self, t: f64) -> bool {
         self.scans.due(t)
@@ -148,7 +174,7 @@ impl NavBrain {
         if let Some(scan) = inp.scan {
             self.scans.taken += 1;
             if let Some(a) = self.amcl.as_mut() {
-                if a.update(inp.odom, scan, Pose2::default()) {
+                if a.update(inp.odom, scan, inp.scan_mount) {
                     self.map_to_odom = a.map_to_odom();
                     pose = self.map_to_odom.compose(inp.odom);
                     if let Some(truth) = inp.truth {
@@ -158,8 +184,8 @@ impl NavBrain {
                     }
                 }
             }
-            // Taken where the robot is, placed where it believes it is.
-            self.nav.add_scan(scan, pose);
+            // Taken where the laser is, placed where the robot believes it is.
+            self.nav.add_scan(scan, pose.compose(inp.scan_mount));
         }
         let cmd = self.nav.tick(inp.t, pose, inp.twist);
         match cmd.status {
@@ -221,7 +247,7 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         None => map.clone(),
     };
     let via = |p: Pose2| cv::pose2(&cv::pose(p, 0.0));
-    let spread = cv::pose_with_covariance(0, 0.0, Pose2::default(), INITIAL_STD_XY, INITIAL_STD_YAW).pose.covariance;
+    let spread = cv::pose_with_covariance(0.0, Pose2::default(), INITIAL_STD_XY, INITIAL_STD_YAW).pose.covariance;
     let mut brain = NavBrain::new(setup, &map, &amcl_map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
@@ -229,6 +255,8 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
     let mut aborted = false;
     let mut stats = crate::runner::RenderStats::default();
     let mut step = 0u64;
+    // The laser's mount as the static transform carries it over ROS.
+    let scan_mount = setup.scan.as_ref().map_or(Pose2::default(), |s| cv::pose2_of_transform(&cv::transform(s.mount(), 0.0)));
     while !env.is_done() {
         let t = episode_time(env.sim_s());
         // The observation's camera frame (`--sensors`): rendered at each controller step; the
@@ -244,12 +272,12 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         step += 1;
         let scan = match sensor.as_mut() {
             Some(s) if brain.scan_due(t) => match s.scan_seen(env.pose(), grid.floor_z, seen.as_ref().map(|(r, f)| (*r, f))) {
-                Ok(scan) => Some(cv::scan_from_msg(&cv::laser_scan(0, t, "laser", &scan, setup.scan_period))),
+                Ok(scan) => Some(cv::scan_from_msg(&cv::laser_scan(t, "laser", &scan, setup.scan_period))),
                 Err(e) => return Outcome::Invalid(crate::runner::InvalidRun { episode_id: ep_id.to_string(), reason: format!("scan at {t:.2} s: {e}") }),
             },
             _ => None,
         };
-        let inp = NavInputs { t, odom: via(env.odometry()), twist: env.robot().twist(), truth: Some(via(env.pose())), scan: scan.as_ref() };
+        let inp = NavInputs { t, odom: via(env.odometry()), twist: env.robot().twist(), truth: Some(via(env.pose())), scan: scan.as_ref(), scan_mount };
         match brain.step(inp) {
             NavReply::Stop => env.call_stop(),
             NavReply::Abort => {

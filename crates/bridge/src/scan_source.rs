@@ -27,9 +27,18 @@ pub enum ScanSource {
 }
 
 impl ScanSource {
-    /// A lidar with the default (LDS-01) parameters.
-    pub fn lidar(scene: Arc<RayScene>) -> Self {
-        ScanSource::Lidar { scene, params: LidarParams::default() }
+    /// A lidar with `params` (the robot profile's `laser.lidar()`: LDS-01 at its mount).
+    pub fn lidar(scene: Arc<RayScene>, params: LidarParams) -> Self {
+        ScanSource::Lidar { scene, params }
+    }
+
+    /// Where the scan's origin sits on the base (m, rad): the lidar's mount, or the camera at
+    /// the base's centre.
+    pub fn mount(&self) -> Pose2 {
+        match self {
+            ScanSource::Lidar { params, .. } => Pose2::new(params.mount_xy[0], params.mount_xy[1], 0.0),
+            ScanSource::Depth { .. } => Pose2::default(),
+        }
     }
 
     /// Height of the scan plane above the floor (m): the lidar's mount, or the camera's (the

@@ -149,6 +149,13 @@ impl Navigator {
         self.obstacles.get_or_insert_with(|| ObstacleLayer::new(st, params)).update(scan, sensor);
     }
 
+    /// Clears the obstacle layer's marks (move_base's `clear_costmaps` service): the costmaps
+    /// fall back to the static map until new scans arrive.
+    pub fn clear_costmaps(&mut self) {
+        self.obstacles = None;
+        self.costmap = self.static_costmap.clone();
+    }
+
     /// The global costmap with the obstacle layer's marks, re-inflated.
     fn refresh_global(&mut self) {
         let (Some(st), Some(ob)) = (&self.static_costmap, &self.obstacles) else { return };

@@ -105,7 +105,7 @@ pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<Prepared, Inv
             return Err(InvalidEpisode::GoalNotNavigable { x: g.x, y: g.y });
         }
     }
-    let field = Arc::new(GeodesicField::new(grid, &goals));
+    let field = grid.field(&goals);
     let d0 = field.distance(grid, start.position());
     if !d0.is_finite() {
         return Err(InvalidEpisode::Unreachable);

@@ -13,6 +13,7 @@ pub mod scene;
 pub mod episode;
 pub mod navgrid;
 pub mod geodesic;
+pub mod field_cache;
 pub mod action;
 pub mod env;
 pub mod kinematic;

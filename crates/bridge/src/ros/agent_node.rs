@@ -1,14 +1,13 @@
-//! A discrete Habitat-style agent as a ROS 1 node: the ground-truth pose and the goal in,
-//! `action` (std_msgs/Int16, Habitat's numbering) out, one action per observation.
-//!
-//! Episodes: a goal on `move_base_simple/goal` starts one; the observation with
-//! `header.seq == 0` is its first and pairs with the next goal received (the two topics
-//! travel on separate connections, so their order is fixed by this rule, not by arrival).
+//! A discrete Habitat-style agent as a ROS 1 node in xhab's lock-step protocol: each
+//! `xhab/step` is answered on `xhab/step_reply` with an action (Habitat's numbering), chosen
+//! from the ground-truth pose of that step (`ground_truth/pose`, taken by its stamp) and the
+//! episode's goal (`xhab/episode`).
 
 use super::convert as cv;
-use super::msgs::{geometry_msgs as gm, std_msgs};
-use super::node::{self, RosError};
-use super::sim_node::{PROBE_SEQ, READY_ACTION};
+use super::msgs::{geometry_msgs as gm, xhab_msgs};
+use super::names::Names;
+use super::node::{self, RosError, RosNode, StampInbox};
+use super::sim_node::{EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPIC};
 use crate::agents::AgentKind;
 use std::sync::Arc;
 use std::time::Duration;
@@ -42,62 +41,58 @@ impl EnvView for View {
     }
 }
 
-/// Runs the agent node `name` until `shutdown` fires (or forever): waits (up to `timeout`)
-/// for the simulator to subscribe to `action`, then answers each observation.
-pub async fn run(uri: &str, name: &str, world: Arc<World>, kind: AgentKind, task: TaskConfig, timeout: Duration, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
-    let nh = node::node(uri, name).await?;
-    let action = node::advertise::<std_msgs::Int16>(&nh, "action", false).await?;
-    let mut poses = node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?;
-    let mut goals = node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?;
-    let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
-    tracing::debug!("agent node up");
-    let mut view: Option<View> = None;
-    let mut goal_probed = false;
-    let mut pending = std::collections::VecDeque::new();
-    let pub_err = |e: String| RosError::Node(format!("publishing on action: {e}"));
+/// Waits for the announcement of episode `index` on `episodes` (older ones are skipped).
+pub(crate) async fn episode_announcement(episodes: &mut tokio::sync::mpsc::UnboundedReceiver<xhab_msgs::Episode>, index: u32, timeout: Duration) -> Result<xhab_msgs::Episode, RosError> {
+    let deadline = tokio::time::Instant::now() + timeout;
     loop {
-        let m = tokio::select! {
-            m = poses.recv() => match m { Some(m) => m, None => return Ok(()) },
+        let left = deadline.saturating_duration_since(tokio::time::Instant::now());
+        let e = node::recv(episodes, left, &format!("announcement of episode {index} on {EPISODE_TOPIC}")).await?;
+        if e.index == index {
+            return Ok(e);
+        }
+    }
+}
+
+/// Runs the agent node until `shutdown` fires (or forever). `field_of` gives the geodesic
+/// field of a goal on a grid (a cache shared with the simulator when both run in one
+/// process, else built here).
+pub async fn run(uri: &str, names: Names, world: Arc<World>, kind: AgentKind, task: TaskConfig, timeout: Duration, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
+    let node = RosNode::new(uri, names).await?;
+    let reply = node.advertise::<xhab_msgs::StepReply>(STEP_REPLY_TOPIC, false).await?;
+    let mut poses = StampInbox::new(node.subscribe::<gm::PoseStamped>("ground_truth/pose").await?);
+    let mut episodes = node.subscribe::<xhab_msgs::Episode>(EPISODE_TOPIC).await?;
+    let mut steps = node.subscribe::<xhab_msgs::Step>(STEP_TOPIC).await?;
+    let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
+    let mut view: Option<(u32, View)> = None;
+    let mut last: Option<xhab_msgs::StepReply> = None;
+    let pub_err = |e: String| RosError::Node(format!("publishing on {STEP_REPLY_TOPIC}: {e}"));
+    loop {
+        let s = tokio::select! {
+            m = steps.recv() => match m { Some(m) => m, None => return Ok(()) },
             _ = shutdown.changed() => return Ok(()),
         };
-        tracing::debug!("agent: pose seq {}", m.header.seq);
-        if m.header.seq == PROBE_SEQ {
-            // Handshake: answer once the goal topic has shown it is connected too.
-            while let Ok(g) = goals.try_recv() {
-                if g.header.seq == PROBE_SEQ {
-                    goal_probed = true;
-                } else {
-                    pending.push_back(g);
-                }
-            }
-            tracing::debug!("agent: probe (goal probed: {goal_probed})");
-            if goal_probed {
-                action.publish(&std_msgs::Int16 { data: READY_ACTION }).await.map_err(|e| pub_err(e.to_string()))?;
+        if let Some(l) = last.as_ref().filter(|l| (l.episode, l.step) >= (s.episode, s.step)) {
+            // A step resent before our answer reached the simulator: answer it again.
+            if (l.episode, l.step) == (s.episode, s.step) {
+                reply.publish(l).await.map_err(|e| pub_err(e.to_string()))?;
             }
             continue;
         }
-        let pose = cv::pose2(&m.pose);
-        if m.header.seq == 0 {
-            let g = match pending.pop_front() {
-                Some(g) => g,
-                None => loop {
-                    let g = node::recv(&mut goals, timeout, "goal for the new episode").await?;
-                    if g.header.seq != PROBE_SEQ {
-                        break g;
-                    }
-                },
-            };
-            let grid = world.grid_at(m.pose.position.z).map_err(|e| RosError::Protocol(format!("observation at height {:.3}: {e}", m.pose.position.z)))?;
-            let goal = cv::pose2(&g.pose).position();
-            let field = Arc::new(GeodesicField::new(&grid, &[goal]));
+        if view.as_ref().is_none_or(|(i, _)| *i != s.episode) {
+            let e = episode_announcement(&mut episodes, s.episode, timeout).await?;
+            let z = e.goal.pose.position.z;
+            let grid = world.grid_at(z).map_err(|x| RosError::Protocol(format!("episode {}: goal at height {z:.3}: {x}", e.episode_id)))?;
+            let goal = cv::pose2(&e.goal.pose).position();
+            let field = grid.field(&[goal]);
             agent.reset();
-            view = Some(View { pose, config: task.clone(), grid, field });
+            view = Some((s.episode, View { pose: cv::pose2(&e.initial_pose.pose.pose), config: task.clone(), grid, field }));
         }
-        let Some(v) = view.as_mut() else {
-            return Err(RosError::Protocol("an observation arrived before any episode began (header.seq 0)".into()));
-        };
-        v.pose = pose;
+        let Some((_, v)) = view.as_mut() else { unreachable!("set above") };
+        let p = poses.take((s.stamp.secs, s.stamp.nsecs), timeout, "ground truth of this step").await?;
+        v.pose = cv::pose2(&p.pose);
         let a = agent.act(v, None);
-        action.publish(&std_msgs::Int16 { data: a as i16 }).await.map_err(|e| pub_err(e.to_string()))?;
+        let r = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind: xhab_msgs::StepReply::ACTION, action: a as i16, ..Default::default() };
+        reply.publish(&r).await.map_err(|e| pub_err(e.to_string()))?;
+        last = Some(r);
     }
 }

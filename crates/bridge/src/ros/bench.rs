@@ -1,9 +1,12 @@
 //! The benchmark over ROS: the simulator and the agent as separate nodes talking through a real
 //! rosmaster, in lock-step, so that every step and metric equals the in-process run.
 
+use super::convert as cv;
 use super::master::Master;
+use super::msgs::{geometry_msgs as gm, xhab_msgs};
+use super::names::Names;
 use super::node::RosError;
-use super::sim_node::{Command, RobotState, SimNode};
+use super::sim_node::{Mounts, RobotState, SimNode};
 use crate::agents::AgentKind;
 use crate::nav_agent::{episode_time, NavSetup, ScanSchedule};
 use crate::runner::{make_env, EpisodeRun, InvalidRun, MadeEnv, Outcome, RunConfig};
@@ -43,32 +46,19 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let (stats_tx, mut stats_rx) = tokio::sync::mpsc::unbounded_channel();
     let agent = match (cfg.agent, &cfg.nav) {
         (AgentKind::Nav, Some(setup)) => {
-            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, expect_scans: setup.scan.is_some(), expect_amcl_map: setup.scan_plane_localization(), seed: cfg.seed, timeout: opts.timeout };
+            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, seed: cfg.seed, timeout: opts.timeout };
             let uri = uri.to_string();
-            tokio::spawn(async move { super::nav_node::run(&uri, "xhab_nav", o, None, None, stop_rx, Some(stats_tx)).await })
+            tokio::spawn(async move { super::nav_node::run(&uri, Names::plain("xhab_nav"), o, None, None, stop_rx, Some(stats_tx)).await })
         }
         (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
         (kind, _) => {
             let (uri, world, task, timeout) = (uri.to_string(), world.clone(), cfg.task.clone(), opts.timeout);
-            tokio::spawn(async move { super::agent_node::run(&uri, "xhab_agent", world, kind, task, timeout, stop_rx).await })
+            tokio::spawn(async move { super::agent_node::run(&uri, Names::plain("xhab_agent"), world, kind, task, timeout, stop_rx).await })
         }
     };
-    let mut sim = SimNode::new(uri, "xhab_sim", opts.timeout).await?;
-    // Probes go first on the topics whose connection the trigger's answer must prove.
-    match (cfg.agent, &cfg.nav) {
-        (AgentKind::Nav, Some(nav)) => {
-            let mut topics = vec!["move_base_simple/goal", "initialpose", "map", "ground_truth/pose"];
-            if nav.scan_plane_localization() {
-                topics.push(super::sim_node::AMCL_MAP_TOPIC);
-            }
-            if nav.scan.is_some() {
-                topics.push("scan");
-            }
-            topics.push("odom");
-            sim.handshake(&topics, true).await?
-        }
-        _ => sim.handshake(&["move_base_simple/goal", "ground_truth/pose"], false).await?,
-    }
+    let mounts = mounts(cfg);
+    let mut sim = SimNode::new(uri, Names::plain("xhab_sim"), &mounts.laser_frame, opts.timeout).await?;
+    sim.publish_static_tf(&mounts).await?;
     let mut clock_ns: i64 = 0;
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
     let mut ran = Vec::new();
@@ -114,7 +104,40 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     Ok(outcomes)
 }
 
+/// The sensor mounts of the run's robot (the laser of the nav setup's scan source, the
+/// camera of `--sensors`).
+pub(crate) fn mounts(cfg: &RunConfig) -> Mounts {
+    let mut m = Mounts::default();
+    if let Some(ph) = &cfg.physics {
+        m.laser_frame = ph.profile.laser.frame.clone();
+        m.camera_z = ph.profile.camera_height;
+    }
+    if let Some(src) = cfg.nav.as_ref().and_then(|n| n.scan.as_ref()) {
+        m.laser = src.mount();
+        m.laser_z = src.height();
+    }
+    if let Some(rig) = cfg.sensors.as_deref() {
+        m.camera_z = rig.params.mount_height;
+    }
+    m
+}
+
+/// The announcement of episode `index` starting at `start` (s).
+fn announcement(index: usize, ep: &xhab_sim::episode::Episode, start: f64, goal: Pose2, init: Pose2, map_stamp: Option<f64>, amcl_map_stamp: Option<f64>) -> xhab_msgs::Episode {
+    let zero = cv::time(0.0);
+    xhab_msgs::Episode {
+        index: index as u32,
+        episode_id: ep.episode_id.clone(),
+        start: cv::time(start),
+        goal: gm::PoseStamped { header: cv::header(start, "map"), pose: cv::pose(goal, ep.goals[0].position.z) },
+        initial_pose: cv::pose_with_covariance(start, init, crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW),
+        map_stamp: map_stamp.map_or(zero.clone(), cv::time),
+        amcl_map_stamp: amcl_map_stamp.map_or(zero, cv::time),
+    }
+}
+
 /// Runs one episode through the simulator node; the agent node answers each step.
+#[allow(clippy::too_many_arguments)]
 async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navgrid::NavGrid>, world_scene: &xhab_sim::scene::Scene, ep: &xhab_sim::episode::Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
     let start_z = ep.start_position.z;
     let goal = ep.goals[0].position.xy();
@@ -125,16 +148,13 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     let mut aborted = false;
     let mut end_t = 0.0;
     let mut stats = crate::runner::RenderStats::default();
-    // The step's camera frame (`--sensors`), rendered and published before the step's state;
+    let ep_index = index as u32;
+    // The step's camera frame (`--sensors`), rendered before the step's state is published;
     // it evaluates to the frame and its camera (for a depth scan source to flatten).
     macro_rules! camera {
-        ($seq:expr, $stamp:expr, $pose:expr) => {
+        ($n:expr, $pose:expr) => {
             match cfg.sensors.as_deref() {
-                Some(rig) => {
-                    let f = crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $seq as u64, &mut stats).map_err(RosError::Node)?;
-                    sim.publish_frame($seq, $stamp, &rig.params, &f).await?;
-                    Some((rig, f))
-                }
+                Some(rig) => Some((rig, crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $n as u64, &mut stats).map_err(RosError::Node)?)),
                 None => None,
             }
         };
@@ -144,21 +164,20 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
             let setup: &NavSetup = setup;
             let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
             sim.publish_map(stamp(0.0), &map).await?;
-            if let Some(m) = crate::nav_agent::localization_map(setup, grid, world_scene) {
-                sim.publish_amcl_map(stamp(0.0), &m).await?;
+            let amcl_map = crate::nav_agent::localization_map(setup, grid, world_scene);
+            if let Some(m) = &amcl_map {
+                sim.publish_amcl_map(stamp(0.0), m).await?;
             }
-            sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
-            sim.publish_initialpose(index as u32, stamp(0.0), env.odometry(), crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW).await?;
+            sim.publish_episode(&announcement(index, ep, stamp(0.0), goal_pose, env.odometry(), Some(stamp(0.0)), amcl_map.as_ref().map(|_| stamp(0.0)))).await?;
             let period = setup.params.dwa.controller_period.max(1e-3);
             let mut sensor = setup.scan.as_ref().map(|s| s.sensor(cfg.seed));
-            let laser_z = setup.scan.as_ref().map_or(0.0, |s| s.height());
             // The same schedule as the navigator's (a scan every scan_period from 0).
             let mut sched = ScanSchedule::new(setup.scan_period);
-            let mut seq = 0u32;
+            let mut step = 0u32;
             while !env.is_done() {
                 let t = episode_time(env.sim_s());
                 // The step's camera frame first: a depth scan source flattens it, as in-process.
-                let frame = camera!(seq, stamp(t), env.pose());
+                let frame = camera!(step, env.pose());
                 let scan = match sensor.as_mut() {
                     Some(s) if sched.due(t) => {
                         sched.taken += 1;
@@ -167,18 +186,18 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                     }
                     _ => None,
                 };
-                let st = RobotState { seq, stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period, laser_z)) };
-                sim.publish_state(&st).await?;
-                match sim.next_command().await? {
-                    Command::Twist(tw) => env.drive(tw, period),
-                    Command::Action(0) => env.call_stop(),
-                    Command::Action(-1) => {
+                let st = RobotState { stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period)), map_to_odom: None };
+                let r = sim.lockstep(&st, frame.as_ref().map(|(r, f)| (&r.params, f)), ep_index, step).await?;
+                match r.kind {
+                    xhab_msgs::StepReply::DRIVE => env.drive(cv::twist2(&r.twist), period),
+                    xhab_msgs::StepReply::STOP => env.call_stop(),
+                    xhab_msgs::StepReply::ABORT => {
                         aborted = true;
                         break;
                     }
-                    Command::Action(a) => return Err(RosError::Protocol(format!("action {a} from the nav node (0 = stop, -1 = give up)"))),
+                    k => return Err(RosError::Protocol(format!("step reply kind {k} from the nav node (DRIVE, STOP or ABORT expected)"))),
                 }
-                seq += 1;
+                step += 1;
                 if let Some(tr) = traj.as_mut() {
                     tr.push(env.pose());
                 }
@@ -187,29 +206,28 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
         }
         (made, _, _) => {
             let env = made.as_dyn();
-            sim.publish_goal(index as u32, stamp(0.0), goal_pose, start_z).await?;
-            let mut seq = 0u32;
+            let start = env.pose();
+            sim.publish_episode(&announcement(index, ep, stamp(0.0), goal_pose, start, None, None)).await?;
+            let mut step = 0u32;
             while !env.is_done() {
-                // Discrete steps are one control period apart on the clock.
-                let t = seq as f64;
+                // Discrete steps are one second apart on the clock.
+                let t = step as f64;
                 let p = env.pose();
-                camera!(seq, stamp(t), p);
-                let st = RobotState { seq, stamp: stamp(t), truth: p, floor_z: start_z, odom: p, twist: Default::default(), scan: None };
-                sim.publish_state(&st).await?;
-                match sim.next_command().await? {
-                    Command::Action(a) => match Action::from_index(a as i64) {
-                        Some(a) => {
-                            env.step(a);
-                        }
-                        None => return Err(RosError::Protocol(format!("action {a} is not one of Habitat's 0..=3"))),
-                    },
-                    Command::Twist(_) => return Err(RosError::Protocol("discrete run: got cmd_vel where an action was expected".into())),
+                let frame = camera!(step, p);
+                let st = RobotState { stamp: stamp(t), truth: p, floor_z: start_z, odom: p, twist: Default::default(), scan: None, map_to_odom: None };
+                let r = sim.lockstep(&st, frame.as_ref().map(|(r, f)| (&r.params, f)), ep_index, step).await?;
+                match (r.kind, Action::from_index(r.action as i64)) {
+                    (xhab_msgs::StepReply::ACTION, Some(a)) => {
+                        env.step(a);
+                    }
+                    (xhab_msgs::StepReply::ACTION, None) => return Err(RosError::Protocol(format!("action {} is not one of Habitat's 0..=3", r.action))),
+                    (k, _) => return Err(RosError::Protocol(format!("step reply kind {k} where an action was expected (discrete run)"))),
                 }
-                seq += 1;
+                step += 1;
                 if let Some(tr) = traj.as_mut() {
                     tr.push(env.pose());
                 }
-                end_t = seq as f64;
+                end_t = step as f64;
             }
         }
     }

@@ -10,9 +10,15 @@ pub fn time(t: f64) -> Time {
     Time { secs: (ns / 1_000_000_000) as i32, nsecs: (ns % 1_000_000_000) as i32 }
 }
 
-/// A header with sequence number `seq`, stamp `t` (s) and frame `frame`.
-pub fn header(seq: u32, t: f64, frame: &str) -> std_msgs::Header {
-    std_msgs::Header { seq, stamp: time(t), frame_id: frame.to_string() }
+/// A header with stamp `t` (s) and frame `frame`; `seq` is left 0 (publishers number their
+/// messages; nothing in xhab reads it).
+pub fn header(t: f64, frame: &str) -> std_msgs::Header {
+    std_msgs::Header { seq: 0, stamp: time(t), frame_id: frame.to_string() }
+}
+
+/// The seconds of a ROS time.
+pub fn seconds(t: &Time) -> f64 {
+    t.secs as f64 + t.nsecs as f64 * 1e-9
 }
 
 /// The quaternion of a rotation by `yaw` (rad) about z.
@@ -41,9 +47,14 @@ pub fn transform(p: Pose2, z: f64) -> gm::Transform {
     gm::Transform { translation: gm::Vector3 { x: p.x, y: p.y, z }, rotation: yaw_to_quaternion(p.yaw) }
 }
 
+/// The planar pose of a transform (its translation's x, y and its yaw).
+pub fn pose2_of_transform(t: &gm::Transform) -> Pose2 {
+    Pose2::new(t.translation.x, t.translation.y, quaternion_to_yaw(&t.rotation))
+}
+
 /// A stamped transform `parent -> child`.
 pub fn tf(t: f64, parent: &str, child: &str, tr: gm::Transform) -> gm::TransformStamped {
-    gm::TransformStamped { header: header(0, t, parent), child_frame_id: child.to_string(), transform: tr }
+    gm::TransformStamped { header: header(t, parent), child_frame_id: child.to_string(), transform: tr }
 }
 
 /// A base-frame velocity as a ROS Twist.
@@ -58,9 +69,9 @@ pub fn twist2(t: &gm::Twist) -> Twist {
 
 /// sensor_msgs/LaserScan of a scan taken at `t` (s) in `frame`; NaN ranges become +inf
 /// (no return), as drivers report them; `scan_time` is the period between scans (s).
-pub fn laser_scan(seq: u32, t: f64, frame: &str, s: &LaserScan, scan_time: f64) -> sensor_msgs::LaserScan {
+pub fn laser_scan(t: f64, frame: &str, s: &LaserScan, scan_time: f64) -> sensor_msgs::LaserScan {
     sensor_msgs::LaserScan {
-        header: header(seq, t, frame),
+        header: header(t, frame),
         angle_min: s.angle_min as f32,
         angle_max: s.angle_max as f32,
         angle_increment: s.angle_increment as f32,
@@ -86,20 +97,36 @@ pub fn scan_from_msg(m: &sensor_msgs::LaserScan) -> LaserScan {
     }
 }
 
-/// nav_msgs/Odometry: `odom` pose of `base_link` and its velocity in `base_link`.
-pub fn odometry(seq: u32, t: f64, p: Pose2, v: Twist) -> nav_msgs::Odometry {
+/// Variances of wheel odometry's pose (x, y: m^2; yaw: rad^2) and velocity ((m/s)^2,
+/// (rad/s)^2), as diff-drive drivers report them; the planar base's z, roll and pitch are
+/// fixed, so theirs are tiny.
+pub const ODOM_POSE_VARIANCE: [f64; 6] = [1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3];
+/// See [`ODOM_POSE_VARIANCE`].
+pub const ODOM_TWIST_VARIANCE: [f64; 6] = [1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3];
+
+fn diagonal(v: [f64; 6]) -> [f64; 36] {
+    let mut c = [0.0; 36];
+    for i in 0..6 {
+        c[i * 7] = v[i];
+    }
+    c
+}
+
+/// nav_msgs/Odometry: the `odom` pose of `base_link` and its velocity in `base_link`, with
+/// diagonal covariances.
+pub fn odometry(t: f64, p: Pose2, v: Twist) -> nav_msgs::Odometry {
     nav_msgs::Odometry {
-        header: header(seq, t, "odom"),
+        header: header(t, "odom"),
         child_frame_id: "base_link".into(),
-        pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: [0.0; 36] },
-        twist: gm::TwistWithCovariance { twist: twist(v), covariance: [0.0; 36] },
+        pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: diagonal(ODOM_POSE_VARIANCE) },
+        twist: gm::TwistWithCovariance { twist: twist(v), covariance: diagonal(ODOM_TWIST_VARIANCE) },
     }
 }
 
 /// nav_msgs/OccupancyGrid of a map (frame `map`); the resolution travels as f32, as in ROS.
 pub fn occupancy_grid(t: f64, g: &OccupancyGrid) -> nav_msgs::OccupancyGrid {
     nav_msgs::OccupancyGrid {
-        header: header(0, t, "map"),
+        header: header(t, "map"),
         info: nav_msgs::MapMetaData {
             map_load_time: time(t),
             resolution: g.resolution as f32,
@@ -123,24 +150,26 @@ pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, Strin
     Ok(OccupancyGrid { width: w, height: h, resolution: m.info.resolution as f64, origin: pose2(&m.info.origin), data: m.data.clone() })
 }
 
-/// A 32FC1 depth image (metres, little-endian, 0 where nothing is hit) in `frame`.
-pub fn depth_image(seq: u32, t: f64, frame: &str, d: &DepthImage) -> sensor_msgs::Image {
+/// A 32FC1 depth image (metres, little-endian) in `frame`; where nothing is hit within range
+/// (0 in xhab's images) it holds NaN, as REP-118 asks.
+pub fn depth_image(t: f64, frame: &str, d: &DepthImage) -> sensor_msgs::Image {
     let mut data = Vec::with_capacity(d.data.len() * 4);
     for v in &d.data {
+        let v = if *v > 0.0 { *v } else { f32::NAN };
         data.extend_from_slice(&v.to_le_bytes());
     }
-    sensor_msgs::Image { header: header(seq, t, frame), height: d.height as u32, width: d.width as u32, encoding: "32FC1".into(), is_bigendian: 0, step: 4 * d.width as u32, data }
+    sensor_msgs::Image { header: header(t, frame), height: d.height as u32, width: d.width as u32, encoding: "32FC1".into(), is_bigendian: 0, step: 4 * d.width as u32, data }
 }
 
 /// An rgb8 image in `frame`.
-pub fn rgb_image(seq: u32, t: f64, frame: &str, width: usize, height: usize, rgb: Vec<u8>) -> sensor_msgs::Image {
-    sensor_msgs::Image { header: header(seq, t, frame), height: height as u32, width: width as u32, encoding: "rgb8".into(), is_bigendian: 0, step: 3 * width as u32, data: rgb }
+pub fn rgb_image(t: f64, frame: &str, width: usize, height: usize, rgb: Vec<u8>) -> sensor_msgs::Image {
+    sensor_msgs::Image { header: header(t, frame), height: height as u32, width: width as u32, encoding: "rgb8".into(), is_bigendian: 0, step: 3 * width as u32, data: rgb }
 }
 
 /// sensor_msgs/CameraInfo of a pinhole camera without distortion (plumb_bob, zeros).
-pub fn camera_info(seq: u32, t: f64, frame: &str, width: usize, height: usize, k: &Intrinsics) -> sensor_msgs::CameraInfo {
+pub fn camera_info(t: f64, frame: &str, width: usize, height: usize, k: &Intrinsics) -> sensor_msgs::CameraInfo {
     sensor_msgs::CameraInfo {
-        header: header(seq, t, frame),
+        header: header(t, frame),
         height: height as u32,
         width: width as u32,
         distortion_model: "plumb_bob".into(),
@@ -153,10 +182,10 @@ pub fn camera_info(seq: u32, t: f64, frame: &str, width: usize, height: usize, k
 }
 
 /// A pose with covariance: standard deviations `xy_std` (m) and `yaw_std` (rad).
-pub fn pose_with_covariance(seq: u32, t: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> gm::PoseWithCovarianceStamped {
+pub fn pose_with_covariance(t: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> gm::PoseWithCovarianceStamped {
     let mut cov = [0.0; 36];
     cov[0] = xy_std * xy_std;
     cov[7] = xy_std * xy_std;
     cov[35] = yaw_std * yaw_std;
-    gm::PoseWithCovarianceStamped { header: header(seq, t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: cov } }
+    gm::PoseWithCovarianceStamped { header: header(t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: cov } }
 }

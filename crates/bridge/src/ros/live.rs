@@ -4,7 +4,8 @@
 
 use super::master::Master;
 use super::node::RosError;
-use super::sim_node::{Command, RobotState, SimNode};
+use super::names::Names;
+use super::sim_node::{Command, Mounts, RobotState, SimNode};
 use crate::runner::PhysicsSetup;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -21,8 +22,13 @@ use xhab_types::{OccupancyGrid, Point3, Pose2, Twist};
 pub struct LiveOptions {
     /// Master URI; `None` starts one.
     pub master: Option<String>,
-    /// Node name.
-    pub name: String,
+    /// The node's name, namespace and remappings.
+    pub names: Names,
+    /// The laser's and the camera's mounts (static tf).
+    pub mounts: Mounts,
+    /// Publish map -> odom from ground truth (as fake_localization), for stacks without a
+    /// localiser.
+    pub map_odom_ground_truth: bool,
     /// Physics (velocity commands on `cmd_vel`); `None`: discrete actions on `action`.
     pub physics: Option<PhysicsSetup>,
     /// Where the robot starts (world frame) and the height of its floor (m).
@@ -86,12 +92,10 @@ pub fn run_live(grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
 }
 
 async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
-    let mut sim = SimNode::new(uri, &o.name, o.timeout).await?;
+    let mut sim = SimNode::new(uri, o.names.clone(), &o.mounts.laser_frame, o.timeout).await?;
     let task = TaskConfig { max_episode_steps: u32::MAX, ..Default::default() };
     let ep = roaming(o.start, o.start_z);
-    let laser_z = o.lidar.as_ref().map_or(0.0, |(_, p)| p.mount_height);
-    let cam_z = o.camera.as_ref().map_or(0.0, |(_, c, _)| c.mount_height);
-    sim.publish_static_tf(laser_z, cam_z).await?;
+    sim.publish_static_tf(&o.mounts).await?;
     if let Some(m) = &o.map {
         sim.publish_map(0.0, m).await?;
     }
@@ -101,7 +105,7 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
     let mut lidar = o.lidar.as_ref().map(|(rs, p)| (rs.clone(), Lidar::new(p.clone(), o.seed)));
     let t0 = Instant::now();
     let (mut next_scan, mut next_frame) = (0.0, 0.0);
-    let mut seq = 0u32;
+    let mut seq = 0u64;
     match &o.physics {
         Some(ph) => {
             let mut env = PhysicsEnv::new(grid.clone(), &ph.scene, &ep, task, &ph.profile, ph.config.clone(), o.seed).map_err(|e| RosError::Protocol(format!("start pose: {e}")))?;
@@ -115,7 +119,8 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
                     }
                     _ => None,
                 };
-                let st = RobotState { seq, stamp: t, truth: env.pose(), floor_z: o.start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, o.scan_period, laser_z)) };
+                let m2o = o.map_odom_ground_truth.then(|| env.pose().compose(env.odometry().inverse()));
+                let st = RobotState { stamp: t, truth: env.pose(), floor_z: o.start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, o.scan_period)), map_to_odom: m2o };
                 sim.publish_state(&st).await?;
                 if let Some((rs, cam, rgb)) = &o.camera {
                     if t + 1e-9 >= next_frame {
@@ -154,7 +159,7 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
             loop {
                 let p = env.pose();
                 let scan = lidar.as_mut().map(|(rs, l)| l.scan(rs, p, grid.floor_z));
-                let st = RobotState { seq, stamp: t, truth: p, floor_z: o.start_z, odom: p, twist: Twist::default(), scan: scan.as_ref().map(|s| (s, o.scan_period, laser_z)) };
+                let st = RobotState { stamp: t, truth: p, floor_z: o.start_z, odom: p, twist: Twist::default(), scan: scan.as_ref().map(|s| (s, o.scan_period)), map_to_odom: o.map_odom_ground_truth.then(Pose2::default) };
                 sim.publish_state(&st).await?;
                 if let Some((rs, cam, rgb)) = &o.camera {
                     sim.publish_camera(seq, t, rs, p, grid.floor_z, cam, *rgb, &o.depth_noise, o.seed).await?;

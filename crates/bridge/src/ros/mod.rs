@@ -4,7 +4,10 @@
 pub mod convert;
 pub mod master;
 pub mod msgs;
+pub mod names;
 pub mod node;
+pub mod tf_buffer;
+pub mod move_base_server;
 pub mod sim_node;
 pub mod agent_node;
 pub mod nav_node;

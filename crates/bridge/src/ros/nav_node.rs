@@ -1,239 +1,443 @@
-//! The native navigation stack as a move_base-compatible ROS 1 node: `scan`, `odom`, `map`,
-//! `move_base_simple/goal` and `initialpose` in; `cmd_vel`, `amcl_pose`, `particlecloud`, tf
-//! map -> odom and the global plan out. It drives any ROS simulator or robot.
+//! The native navigation stack as a move_base-compatible ROS 1 node. In: `scan`, `odom`,
+//! `map` (and `amcl/map`), `/tf` and `/tf_static`, `initialpose`, `move_base_simple/goal`,
+//! the `move_base` action. Out: `cmd_vel`, `amcl_pose`, `particlecloud`, `/tf` map -> odom
+//! (only when it localises), `move_base/GlobalPlanner/plan`, `move_base/DWAPlannerROS/local_plan`,
+//! the action's status, feedback and result; service `move_base/clear_costmaps`.
 //!
-//! Free-running, it runs a controller step on each odometry message at least one controller
-//! period (sim time, from the stamps) after the last. Lock-step (the simulator waits for each
-//! reply), every odometry message gets exactly one reply: `cmd_vel`, or `action` 0 (goal
-//! reached: stop) or -1 (gave up); the step's scan (due every `LaserScan.scan_time` from the
-//! episode's start) and ground truth are awaited by sequence number, so arrival order across
-//! topics never changes the result. An odometry message with `header.seq == 0` begins an episode
-//! and pairs with the next map, goal and initial pose received (and localisation map, when
-//! one is expected on `amcl/map`; without one AMCL localises on `map`).
+//! Free-running (a robot, `xhab ros sim`, `xhab bench --agent ros`), it runs a controller step
+//! on each odometry message at least one controller period (sim time, from the stamps) after
+//! the last, with the newest scan. Lock-step with xhab's simulator (`xhab bench --ros`), it
+//! answers each `xhab/step` on `xhab/step_reply`, taking that step's odometry, scan and ground
+//! truth by their stamp, so results equal the in-process run's.
 
+use super::agent_node::episode_announcement;
 use super::convert as cv;
-use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs, tf2_msgs};
-use super::node::{self, Inbox, RosError};
-use super::sim_node::{AMCL_MAP_TOPIC, PROBE_SEQ, READY_ACTION};
-use crate::nav_agent::{NavBrain, NavInputs, NavReply, NavSetup};
+use super::move_base_server::{status, MoveBaseServer, ServerEvent};
+use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_srvs, tf2_msgs, xhab_msgs};
+use super::names::Names;
+use super::node::{RosError, RosNode, StampInbox};
+use super::sim_node::{AMCL_MAP_TOPIC, EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPIC};
+use super::tf_buffer::TfBuffer;
+use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, NavSetup};
 use roslibrust::ros1::Publisher;
 use std::time::Duration;
 use tokio::sync::{mpsc, watch};
-use xhab_types::{OccupancyGrid, Pose2};
+use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
 /// How the node runs.
 #[derive(Debug, Clone)]
 pub struct NavNodeOptions {
     /// The stack's setup (parameters, localisation, scan period).
     pub setup: NavSetup,
-    /// Lock-step with the simulator (one reply per odometry message).
+    /// Lock-step with xhab's simulator (one reply per `xhab/step`).
     pub lockstep: bool,
-    /// Whether scans come (lock-step waits for each due scan).
-    pub expect_scans: bool,
-    /// Whether each lock-step episode brings a localisation map on `amcl/map`.
-    pub expect_amcl_map: bool,
     /// Seed of AMCL.
     pub seed: u64,
     /// How long to wait for a peer (s).
     pub timeout: Duration,
 }
 
+/// The robot's frame (REP-105).
+const BASE_FRAME: &str = "base_link";
+
 struct Outputs {
     cmd_vel: Publisher<gm::Twist>,
-    action: Publisher<std_msgs::Int16>,
     amcl_pose: Publisher<gm::PoseWithCovarianceStamped>,
     particlecloud: Publisher<gm::PoseArray>,
     tf: Publisher<tf2_msgs::TFMessage>,
     plan: Publisher<nav_msgs::Path>,
+    local_plan: Publisher<nav_msgs::Path>,
+}
+
+fn perr(topic: &str, e: impl std::fmt::Display) -> RosError {
+    RosError::Node(format!("publishing on {topic}: {e}"))
 }
 
 impl Outputs {
-    async fn reply(&self, r: NavReply, lockstep: bool) -> Result<(), RosError> {
-        let e = |t: &str, e: String| RosError::Node(format!("publishing on {t}: {e}"));
-        match (r, lockstep) {
-            (NavReply::Drive(tw), _) => self.cmd_vel.publish(&cv::twist(tw)).await.map_err(|x| e("cmd_vel", x.to_string())),
-            (NavReply::Stop, true) => self.action.publish(&std_msgs::Int16 { data: 0 }).await.map_err(|x| e("action", x.to_string())),
-            (NavReply::Abort, true) => self.action.publish(&std_msgs::Int16 { data: -1 }).await.map_err(|x| e("action", x.to_string())),
-            (_, false) => self.cmd_vel.publish(&gm::Twist::default()).await.map_err(|x| e("cmd_vel", x.to_string())),
-        }
+    async fn new(node: &RosNode) -> Result<Self, RosError> {
+        Ok(Outputs {
+            cmd_vel: node.advertise("cmd_vel", false).await?,
+            amcl_pose: node.advertise("amcl_pose", false).await?,
+            particlecloud: node.advertise("particlecloud", false).await?,
+            tf: node.advertise("/tf", false).await?,
+            plan: node.advertise("move_base/GlobalPlanner/plan", false).await?,
+            local_plan: node.advertise("move_base/DWAPlannerROS/local_plan", false).await?,
+        })
     }
 
-    /// Localisation and plan outputs, each only when someone listens.
-    async fn report(&self, brain: &NavBrain, stamp: f64, odom: Pose2) -> Result<(), RosError> {
+    async fn drive(&self, tw: Twist) -> Result<(), RosError> {
+        self.cmd_vel.publish(&cv::twist(tw)).await.map_err(|e| perr("cmd_vel", e))
+    }
+
+    /// Localisation (map -> odom when AMCL runs) and the local plan at every step; the pose
+    /// estimate, particles and global plan when `scanned` (a scan came: 10 Hz, not 20).
+    async fn report(&self, brain: &NavBrain, stamp: f64, odom: Pose2, cmd: Twist, dwa_sim_time: f64, scanned: bool) -> Result<(), RosError> {
         let m2o = brain.map_to_odom();
-        if self.tf.has_connected_clients() {
+        if brain.amcl().is_some() {
             let m = tf2_msgs::TFMessage { transforms: vec![cv::tf(stamp, "map", "odom", cv::transform(m2o, 0.0))] };
-            let _ = self.tf.publish(&m).await;
+            self.tf.publish(&m).await.map_err(|e| perr("/tf", e))?;
         }
-        if let Some(a) = brain.amcl() {
-            if self.amcl_pose.has_connected_clients() {
-                let est = a.estimate();
-                let mut m = cv::pose_with_covariance(0, stamp, m2o.compose(odom), 0.0, 0.0);
-                m.pose.covariance[0] = est.variance[0];
-                m.pose.covariance[7] = est.variance[1];
-                m.pose.covariance[35] = est.variance[2];
-                let _ = self.amcl_pose.publish(&m).await;
-            }
-            if self.particlecloud.has_connected_clients() {
-                let poses = a.particles().iter().map(|(p, _)| cv::pose(*p, 0.0)).collect();
-                let _ = self.particlecloud.publish(&gm::PoseArray { header: cv::header(0, stamp, "map"), poses }).await;
-            }
+        if let Some(a) = brain.amcl().filter(|_| scanned) {
+            let est = a.estimate();
+            let mut m = cv::pose_with_covariance(stamp, m2o.compose(odom), 0.0, 0.0);
+            m.pose.covariance[0] = est.variance[0];
+            m.pose.covariance[7] = est.variance[1];
+            m.pose.covariance[35] = est.variance[2];
+            self.amcl_pose.publish(&m).await.map_err(|e| perr("amcl_pose", e))?;
+            let poses = a.particles().iter().map(|(p, _)| cv::pose(*p, 0.0)).collect();
+            self.particlecloud.publish(&gm::PoseArray { header: cv::header(stamp, "map"), poses }).await.map_err(|e| perr("particlecloud", e))?;
         }
-        if self.plan.has_connected_clients() {
-            let poses = brain.navigator().plan().iter().map(|p| gm::PoseStamped { header: cv::header(0, stamp, "map"), pose: cv::pose(*p, 0.0) }).collect();
-            let _ = self.plan.publish(&nav_msgs::Path { header: cv::header(0, stamp, "map"), poses }).await;
+        let path = |poses: Vec<Pose2>, frame: &str| nav_msgs::Path {
+            header: cv::header(stamp, frame),
+            poses: poses.into_iter().map(|p| gm::PoseStamped { header: cv::header(stamp, frame), pose: cv::pose(p, 0.0) }).collect(),
+        };
+        if scanned {
+            self.plan.publish(&path(brain.navigator().plan().to_vec(), "map")).await.map_err(|e| perr("plan", e))?;
         }
-        Ok(())
+        // The local plan: the trajectory DWA chose, rolled out over its sim_time (odom frame).
+        let mut p = odom;
+        let mut local = vec![p];
+        let n = 10;
+        let dt = dwa_sim_time / n as f64;
+        for _ in 0..n {
+            p = p.compose(Pose2::new(cmd.linear * dt, 0.0, cmd.angular * dt));
+            local.push(p);
+        }
+        self.local_plan.publish(&path(local, "odom")).await.map_err(|e| perr("local_plan", e))
     }
 }
 
-/// Runs the node `name` until `shutdown` fires. `map`: a static map (`--map`), else the one
-/// received on `map`; `amcl_map`: a static localisation map (`--amcl-map`), else the one
-/// received on `amcl/map`, else the map. In lock-step runs, each episode's mean localisation error is sent on
-/// `stats` when the next episode begins or the node stops.
-pub async fn run(uri: &str, name: &str, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>, mut shutdown: watch::Receiver<bool>, stats: Option<mpsc::UnboundedSender<Option<[f64; 2]>>>) -> Result<(), RosError> {
-    let nh = node::node(uri, name).await?;
-    let out = Outputs {
-        cmd_vel: node::advertise(&nh, "cmd_vel", false).await?,
-        action: node::advertise(&nh, "action", false).await?,
-        amcl_pose: node::advertise(&nh, "amcl_pose", false).await?,
-        particlecloud: node::advertise(&nh, "particlecloud", false).await?,
-        tf: node::advertise(&nh, "tf", false).await?,
-        plan: node::advertise(&nh, "move_base/GlobalPlanner/plan", false).await?,
+/// The inputs both modes read.
+struct Inputs {
+    scans: StampInbox<sensor_msgs::LaserScan>,
+    maps: StampInbox<nav_msgs::OccupancyGrid>,
+    amcl_maps: StampInbox<nav_msgs::OccupancyGrid>,
+    truths: StampInbox<gm::PoseStamped>,
+    tf: mpsc::UnboundedReceiver<tf2_msgs::TFMessage>,
+    tf_static: mpsc::UnboundedReceiver<tf2_msgs::TFMessage>,
+    buffer: TfBuffer,
+}
+
+impl Inputs {
+    fn absorb_tf(&mut self) {
+        while let Ok(m) = self.tf_static.try_recv() {
+            self.buffer.insert(&m);
+        }
+        while let Ok(m) = self.tf.try_recv() {
+            self.buffer.insert(&m);
+        }
+    }
+
+    /// Where frame `frame` (a scan's) sits on the base, waiting up to `timeout` for the
+    /// static transform (it is latched, but may arrive after the first scan).
+    async fn mount(&mut self, frame: &str, timeout: Duration) -> Result<Pose2, RosError> {
+        let deadline = tokio::time::Instant::now() + timeout;
+        loop {
+            self.absorb_tf();
+            if let Some(p) = self.buffer.lookup(BASE_FRAME, frame) {
+                return Ok(p);
+            }
+            if frame.is_empty() || frame.trim_start_matches('/') == BASE_FRAME {
+                return Ok(Pose2::default());
+            }
+            match tokio::time::timeout_at(deadline, self.tf_static.recv()).await {
+                Ok(Some(m)) => self.buffer.insert(&m),
+                _ => return Err(RosError::Timeout(format!("no transform {BASE_FRAME} -> {frame} (the scan's frame) on /tf_static within {:.0} s", timeout.as_secs_f64()))),
+            }
+        }
+    }
+}
+
+fn stamp_of(t: &roslibrust::codegen::integral_types::Time) -> (i32, i32) {
+    (t.secs, t.nsecs)
+}
+
+/// Runs the node until `shutdown` fires. `map`: a static map (`--map`), else the one received
+/// on `map`; `amcl_map`: a static localisation map (`--amcl-map`), else the one received on
+/// `amcl/map`, else the map. In lock-step runs, each episode's mean localisation error is
+/// sent on `stats` when the next episode begins or the node stops.
+pub async fn run(uri: &str, names: Names, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>, shutdown: watch::Receiver<bool>, stats: Option<mpsc::UnboundedSender<Option<[f64; 2]>>>) -> Result<(), RosError> {
+    let node = RosNode::new(uri, names).await?;
+    let out = Outputs::new(&node).await?;
+    let inputs = Inputs {
+        scans: StampInbox::new(node.subscribe("scan").await?),
+        maps: StampInbox::new(node.subscribe("map").await?),
+        amcl_maps: StampInbox::new(node.subscribe(AMCL_MAP_TOPIC).await?),
+        truths: StampInbox::new(node.subscribe("ground_truth/pose").await?),
+        tf: node.subscribe("/tf").await?,
+        tf_static: node.subscribe("/tf_static").await?,
+        buffer: TfBuffer::new(),
     };
-    let mut odoms = node::subscribe::<nav_msgs::Odometry>(&nh, "odom").await?;
-    let mut scans = Inbox::new(node::subscribe::<sensor_msgs::LaserScan>(&nh, "scan").await?);
-    let mut maps = Inbox::new(node::subscribe::<nav_msgs::OccupancyGrid>(&nh, "map").await?);
-    let mut amcl_maps = Inbox::new(node::subscribe::<nav_msgs::OccupancyGrid>(&nh, AMCL_MAP_TOPIC).await?);
-    let mut goals = Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "move_base_simple/goal").await?);
-    let mut inits = Inbox::new(node::subscribe::<gm::PoseWithCovarianceStamped>(&nh, "initialpose").await?);
-    let want_truth = opts.lockstep && (opts.setup.localization == crate::nav_agent::Localization::GroundTruth || stats.is_some());
-    let mut truths = if want_truth { Some(Inbox::new(node::subscribe::<gm::PoseStamped>(&nh, "ground_truth/pose").await?)) } else { None };
-    let mut current_map = map.clone();
-    let mut current_amcl_map = amcl_map.clone();
-    let expect_amcl_map = opts.expect_amcl_map && amcl_map.is_none();
-    let mut brain: Option<NavBrain> = None;
-    let mut episode_start_ns = 0i64;
-    let mut last_tick: Option<f64> = None;
-    let mut pending_scan = None;
-    let flush = |b: &Option<NavBrain>| {
-        if let (Some(tx), Some(b)) = (stats.as_ref(), b.as_ref()) {
+    if opts.lockstep {
+        lockstep(&node, out, inputs, opts, map, amcl_map, shutdown, stats).await
+    } else {
+        free_running(&node, out, inputs, opts, map, amcl_map, shutdown).await
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+async fn lockstep(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>, mut shutdown: watch::Receiver<bool>, stats: Option<mpsc::UnboundedSender<Option<[f64; 2]>>>) -> Result<(), RosError> {
+    let reply = node.advertise::<xhab_msgs::StepReply>(STEP_REPLY_TOPIC, false).await?;
+    let mut episodes = node.subscribe::<xhab_msgs::Episode>(EPISODE_TOPIC).await?;
+    let mut steps = node.subscribe::<xhab_msgs::Step>(STEP_TOPIC).await?;
+    let mut odoms = StampInbox::new(node.subscribe::<nav_msgs::Odometry>("odom").await?);
+    let want_truth = opts.setup.localization == Localization::GroundTruth || stats.is_some();
+    let mut brain: Option<(u32, NavBrain, (i32, i32))> = None;
+    let mut last: Option<xhab_msgs::StepReply> = None;
+    let flush = |b: &Option<(u32, NavBrain, (i32, i32))>| {
+        if let (Some(tx), Some((_, b, _))) = (stats.as_ref(), b.as_ref()) {
             let _ = tx.send(b.localization_error());
         }
     };
+    let t_out = opts.timeout;
     loop {
-        let od = tokio::select! {
-            m = odoms.recv() => match m { Some(m) => m, None => break },
+        let s = tokio::select! {
+            m = steps.recv() => match m { Some(m) => m, None => break },
             _ = shutdown.changed() => break,
         };
-        if od.header.seq == PROBE_SEQ {
-            // Handshake: answer on both reply topics once every input has shown a probe.
-            goals.absorb();
-            inits.absorb();
-            maps.absorb();
-            amcl_maps.absorb();
-            scans.absorb();
-            if let Some(t) = truths.as_mut() {
-                t.absorb();
-            }
-            let ready = goals.probed && inits.probed && (map.is_some() || maps.probed) && (!expect_amcl_map || amcl_maps.probed) && (!opts.expect_scans || scans.probed) && truths.as_ref().is_none_or(|t| t.probed);
-            if ready && opts.lockstep {
-                let e = |x: String| RosError::Node(format!("publishing the handshake answer: {x}"));
-                out.action.publish(&std_msgs::Int16 { data: READY_ACTION }).await.map_err(|x| e(x.to_string()))?;
-                let probe = gm::Twist { linear: gm::Vector3 { x: 0.0, y: 0.0, z: 1.0 }, ..Default::default() };
-                out.cmd_vel.publish(&probe).await.map_err(|x| e(x.to_string()))?;
+        if let Some(l) = last.as_ref().filter(|l| (l.episode, l.step) >= (s.episode, s.step)) {
+            if (l.episode, l.step) == (s.episode, s.step) {
+                reply.publish(l).await.map_err(|e| perr(STEP_REPLY_TOPIC, e))?;
             }
             continue;
         }
-        let stamp_ns = od.header.stamp.secs as i64 * 1_000_000_000 + od.header.stamp.nsecs as i64;
+        if brain.as_ref().is_none_or(|(i, _, _)| *i != s.episode) {
+            flush(&brain);
+            let e = episode_announcement(&mut episodes, s.episode, t_out).await?;
+            let m = match &map {
+                Some(m) => m.clone(),
+                None => cv::grid_from_msg(&inp.maps.take(stamp_of(&e.map_stamp), t_out, "map of the episode").await?).map_err(RosError::Protocol)?,
+            };
+            let am = match (&amcl_map, e.amcl_map_stamp.secs != 0 || e.amcl_map_stamp.nsecs != 0) {
+                (Some(a), _) => Some(a.clone()),
+                (None, true) => Some(cv::grid_from_msg(&inp.amcl_maps.take(stamp_of(&e.amcl_map_stamp), t_out, "localisation map of the episode").await?).map_err(RosError::Protocol)?),
+                (None, false) => None,
+            };
+            let ip = &e.initial_pose.pose;
+            let spread = (ip.covariance[0].sqrt(), ip.covariance[35].sqrt());
+            let b = NavBrain::new(&opts.setup, &m, am.as_ref().unwrap_or(&m), cv::pose2(&e.goal.pose).position(), cv::pose2(&ip.pose), Some(spread), opts.seed);
+            brain = Some((s.episode, b, stamp_of(&e.start)));
+        }
+        let Some((_, b, start)) = brain.as_mut() else { unreachable!("set above") };
+        let stamp = stamp_of(&s.stamp);
+        let od = odoms.take(stamp, t_out, "odometry of this step").await?;
+        let scan = match s.scan {
+            true => Some(inp.scans.take(stamp, t_out, "scan of this step").await?),
+            false => None,
+        };
+        let scan_mount = match &scan {
+            Some(sc) => inp.mount(&sc.header.frame_id, t_out).await?,
+            None => Pose2::default(),
+        };
+        let truth = match want_truth {
+            true => Some(cv::pose2(&inp.truths.take(stamp, t_out, "ground truth of this step").await?.pose)),
+            false => None,
+        };
+        let t = ((stamp.0 as i64 - start.0 as i64) * 1_000_000_000 + (stamp.1 as i64 - start.1 as i64)) as f64 / 1e9;
+        let xs = scan.as_ref().map(cv::scan_from_msg);
         let odom = cv::pose2(&od.pose.pose);
-        let twist = cv::twist2(&od.twist.twist);
-        if opts.lockstep {
-            if od.header.seq == 0 {
-                flush(&brain);
-                if map.is_none() {
-                    let m = maps.next(opts.timeout, "map for the new episode").await?;
-                    current_map = Some(cv::grid_from_msg(&m).map_err(RosError::Protocol)?);
+        let r = b.step(NavInputs { t, odom, twist: cv::twist2(&od.twist.twist), truth, scan: xs.as_ref(), scan_mount });
+        let (kind, tw) = match r {
+            NavReply::Drive(tw) => (xhab_msgs::StepReply::DRIVE, tw),
+            NavReply::Stop => (xhab_msgs::StepReply::STOP, Twist::default()),
+            NavReply::Abort => (xhab_msgs::StepReply::ABORT, Twist::default()),
+        };
+        out.drive(tw).await?;
+        let rep = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind, twist: cv::twist(tw), action: 0 };
+        reply.publish(&rep).await.map_err(|e| perr(STEP_REPLY_TOPIC, e))?;
+        last = Some(rep);
+        out.report(b, cv::seconds(&s.stamp), odom, tw, opts.setup.params.dwa.sim_time, s.scan).await?;
+    }
+    flush(&brain);
+    Ok(())
+}
+
+/// The pose of a goal given in `frame`, in the map frame.
+fn goal_in_map(buffer: &TfBuffer, frame: &str, p: Pose2, map_to_odom: Pose2) -> Option<Point2> {
+    match frame.trim_start_matches('/') {
+        "" | "map" => Some(p.position()),
+        "odom" => Some(map_to_odom.compose(p).position()),
+        f => buffer.lookup("map", f).map(|t| t.compose(p).position()),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>, mut shutdown: watch::Receiver<bool>) -> Result<(), RosError> {
+    let mut odoms = node.subscribe::<nav_msgs::Odometry>("odom").await?;
+    let mut simple_goals = node.subscribe::<gm::PoseStamped>("move_base_simple/goal").await?;
+    let mut inits = node.subscribe::<gm::PoseWithCovarianceStamped>("initialpose").await?;
+    let mut server = MoveBaseServer::new(node).await?;
+    let (clear_tx, mut clear_rx) = mpsc::unbounded_channel::<()>();
+    let _clear = node
+        .nh
+        .advertise_service::<std_srvs::Empty, _>(&node.names.resolve("move_base/clear_costmaps"), move |_req| {
+            let _ = clear_tx.send(());
+            Ok(std_srvs::EmptyResponse {})
+        })
+        .await
+        .map_err(|e| RosError::Node(format!("advertising move_base/clear_costmaps: {e}")))?;
+    // Without its own localiser the node reads map -> odom from tf (someone else's amcl, or
+    // the simulator's ground truth); it then steers by that pose.
+    let mut setup = opts.setup.clone();
+    let tf_localised = setup.localization == Localization::Odom;
+    if tf_localised {
+        setup.localization = Localization::GroundTruth;
+    }
+    let mut current_map = map.clone();
+    let mut current_amcl_map = amcl_map.clone();
+    let mut brain: Option<NavBrain> = None;
+    let mut goal: Option<(Point2, bool)> = None; // (goal, from the action)
+    let mut goal_pending = false;
+    let mut init: Option<(Pose2, (f64, f64))> = None;
+    let mut last_tick: Option<f64> = None;
+    let mut last_odom: Option<(f64, Pose2)> = None;
+    let mut pending_scan: Option<sensor_msgs::LaserScan> = None;
+    let mut truth: Option<Pose2> = None;
+    let mut ticker = tokio::time::interval(Duration::from_millis(200));
+    let period = setup.params.dwa.controller_period;
+    loop {
+        let od = tokio::select! {
+            m = odoms.recv() => match m { Some(m) => Some(m), None => break },
+            _ = ticker.tick() => None,
+            c = clear_rx.recv() => {
+                if c.is_some() {
+                    if let Some(b) = brain.as_mut() { b.clear_costmaps(); }
+                    tracing::info!("costmaps cleared");
                 }
-                if expect_amcl_map {
-                    let m = amcl_maps.next(opts.timeout, "localisation map for the new episode").await?;
-                    current_amcl_map = Some(cv::grid_from_msg(&m).map_err(RosError::Protocol)?);
-                }
-                let g = goals.next(opts.timeout, "goal for the new episode").await?;
-                let ip = inits.next(opts.timeout, "initial pose for the new episode").await?;
-                let spread = (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt());
-                let m = current_map.as_ref().ok_or_else(|| RosError::Protocol("no map".into()))?;
-                let am = current_amcl_map.as_ref().unwrap_or(m);
-                brain = Some(NavBrain::new(&opts.setup, m, am, cv::pose2(&g.pose).position(), cv::pose2(&ip.pose.pose), Some(spread), opts.seed));
-                episode_start_ns = stamp_ns;
+                continue;
             }
-            let Some(b) = brain.as_mut() else {
-                return Err(RosError::Protocol("odometry arrived before any episode began (header.seq 0)".into()));
-            };
-            let t = (stamp_ns - episode_start_ns) as f64 / 1e9;
-            let scan = if opts.expect_scans && b.scan_due(t) {
-                let s = scans.next(opts.timeout, "scan due at this step").await?;
-                if s.header.seq != od.header.seq {
-                    return Err(RosError::Protocol(format!("scan seq {} where odometry seq {} was expected", s.header.seq, od.header.seq)));
-                }
-                Some(cv::scan_from_msg(&s))
-            } else {
-                None
-            };
-            let truth = match truths.as_mut() {
-                Some(rx) => {
-                    let g = rx.next(opts.timeout, "ground truth of this step").await?;
-                    Some(cv::pose2(&g.pose))
-                }
-                None => None,
-            };
-            let r = b.step(NavInputs { t, odom, twist, truth, scan: scan.as_ref() });
-            out.reply(r, true).await?;
-            out.report(b, stamp_ns as f64 / 1e9, odom).await?;
-            continue;
-        }
-        // Free-running: take the newest map, goal and initial pose; feed every new scan.
-        if let Some(m) = maps.latest() {
+            _ = shutdown.changed() => break,
+        };
+        inp.absorb_tf();
+        let now = match &od {
+            Some(o) => cv::seconds(&o.header.stamp),
+            None => last_odom.map_or(0.0, |(t, _)| t),
+        };
+        if let Some(m) = inp.maps.latest() {
             match cv::grid_from_msg(&m) {
-                Ok(g) if map.is_none() => current_map = Some(g),
+                Ok(g) if map.is_none() => {
+                    if let Some(b) = brain.as_mut() {
+                        b.set_map(&g);
+                    }
+                    current_map = Some(g);
+                }
                 Ok(_) => {}
                 Err(e) => tracing::warn!("map: {e}"),
             }
         }
-        if let Some(m) = amcl_maps.latest() {
+        if let Some(m) = inp.amcl_maps.latest() {
             match cv::grid_from_msg(&m) {
                 Ok(g) if amcl_map.is_none() => current_amcl_map = Some(g),
                 Ok(_) => {}
                 Err(e) => tracing::warn!("{AMCL_MAP_TOPIC}: {e}"),
             }
         }
-        let init = inits.latest().map(|ip| (cv::pose2(&ip.pose.pose), (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt())));
-        let goal = goals.latest().map(|g| cv::pose2(&g.pose).position());
-        let t = stamp_ns as f64 / 1e9;
-        if let (Some(g), Some(m)) = (goal, current_map.as_ref()) {
-            let (start, spread) = match (init, brain.as_ref()) {
-                (Some((p, s)), _) => (p, Some(s)),
-                (None, Some(b)) => (b.map_to_odom().compose(odom), Some((0.1, 0.1))),
-                (None, None) => (odom, None),
-            };
-            brain = Some(NavBrain::new(&opts.setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed));
-            tracing::info!("new goal ({:.2}, {:.2})", g.x, g.y);
+        if let Some(t) = inp.truths.latest() {
+            truth = Some(cv::pose2(&t.pose));
+        }
+        let m2o = brain.as_ref().map_or(Pose2::default(), |b| b.map_to_odom());
+        while let Ok(ip) = inits.try_recv() {
+            let p = cv::pose2(&ip.pose.pose);
+            let spread = (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt());
+            init = Some((p, spread));
+            if let (Some(b), Some((_, o))) = (brain.as_mut(), last_odom) {
+                b.set_initial_pose(p, o, spread);
+            }
+            tracing::info!("initial pose ({:.2}, {:.2}, {:.2})", p.x, p.y, p.yaw);
+        }
+        while let Ok(g) = simple_goals.try_recv() {
+            match goal_in_map(&inp.buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
+                Some(p) => {
+                    if server.active() {
+                        server.finish(status::PREEMPTED, "preempted by move_base_simple/goal", now).await?;
+                    }
+                    goal = Some((p, false));
+                    goal_pending = true;
+                }
+                None => tracing::warn!("goal in frame '{}' ignored: no transform to map", g.header.frame_id),
+            }
+        }
+        for ev in server.poll(now).await? {
+            match ev {
+                ServerEvent::NewGoal(g) => match goal_in_map(&inp.buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
+                    Some(p) => {
+                        goal = Some((p, true));
+                        goal_pending = true;
+                    }
+                    None => server.finish(status::ABORTED, &format!("no transform from '{}' to map", g.header.frame_id), now).await?,
+                },
+                ServerEvent::Cancelled => {
+                    goal = None;
+                    goal_pending = false;
+                    out.drive(Twist::default()).await?;
+                }
+            }
+        }
+        let Some(od) = od else {
+            server.publish_status(now).await?;
+            continue;
+        };
+        let odom = cv::pose2(&od.pose.pose);
+        last_odom = Some((now, odom));
+        if goal_pending {
+            if let (Some((g, _)), Some(m)) = (goal, current_map.as_ref()) {
+                match brain.as_mut() {
+                    Some(b) => b.set_goal(g, now),
+                    None => {
+                        let (start, spread) = match init {
+                            Some((p, s)) => (p, Some(s)),
+                            None => (odom, None),
+                        };
+                        let mut b = NavBrain::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
+                        b.set_initial_pose(start, odom, spread.unwrap_or((crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW)));
+                        b.set_goal(g, now);
+                        brain = Some(b);
+                    }
+                }
+                goal_pending = false;
+                tracing::info!("new goal ({:.2}, {:.2})", g.x, g.y);
+            }
+        }
+        if let Some(s) = inp.scans.latest() {
+            pending_scan = Some(s);
         }
         let Some(b) = brain.as_mut() else { continue };
-        if let Some(s) = scans.latest() {
-            pending_scan = Some(cv::scan_from_msg(&s));
-        }
-        let period = opts.setup.params.dwa.controller_period;
-        if last_tick.is_some_and(|l| t < l + period - 1e-6) {
+        if goal.is_none() || last_tick.is_some_and(|l| now < l + period - 1e-6) {
             continue;
         }
-        last_tick = Some(t);
+        last_tick = Some(now);
         let scan = pending_scan.take();
-        let r = b.step(NavInputs { t, odom, twist, truth: None, scan: scan.as_ref() });
-        out.reply(r, false).await?;
-        out.report(b, t, odom).await?;
+        let scan_mount = match &scan {
+            Some(s) => inp.mount(&s.header.frame_id, opts.timeout).await?,
+            None => Pose2::default(),
+        };
+        let pose_now = match (tf_localised, setup.localization) {
+            (true, _) => Some(inp.buffer.lookup("map", "odom").unwrap_or_default().compose(odom)),
+            (false, Localization::GroundTruth) => truth,
+            _ => None,
+        };
+        let xs = scan.as_ref().map(cv::scan_from_msg);
+        let r = b.step(NavInputs { t: now, odom, twist: cv::twist2(&od.twist.twist), truth: pose_now, scan: xs.as_ref(), scan_mount });
+        let from_action = goal.is_some_and(|(_, a)| a);
+        let tw = match r {
+            NavReply::Drive(tw) => tw,
+            NavReply::Stop | NavReply::Abort => {
+                let (code, text) = if r == NavReply::Stop { (status::SUCCEEDED, "goal reached") } else { (status::ABORTED, "failed to reach the goal") };
+                if from_action {
+                    server.finish(code, text, now).await?;
+                }
+                tracing::info!("goal {}", text);
+                goal = None;
+                Twist::default()
+            }
+        };
+        out.drive(tw).await?;
+        out.report(b, now, odom, tw, setup.params.dwa.sim_time, xs.is_some()).await?;
+        if from_action && goal.is_some() {
+            let pose = b.map_to_odom().compose(odom);
+            server.feedback(now, gm::PoseStamped { header: cv::header(now, "map"), pose: cv::pose(pose, 0.0) }).await?;
+        }
+        server.publish_status(now).await?;
     }
-    flush(&brain);
     Ok(())
 }
-

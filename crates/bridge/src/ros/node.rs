@@ -1,6 +1,7 @@
-//! What every xhab ROS node shares: errors, the node handle, typed subscriptions forwarded to
-//! channels, and waiting (without spinning) for peers to connect.
+//! What every xhab ROS node shares: errors, the node with its resolved names, typed
+//! subscriptions forwarded to channels, and taking a lock-step's messages by their stamp.
 
+use super::names::Names;
 use roslibrust::ros1::{NodeHandle, Publisher};
 
 use roslibrust::RosMessageType;
@@ -13,6 +14,9 @@ pub enum RosError {
     /// The master could not be used.
     #[error(transparent)]
     Master(#[from] super::master::MasterError),
+    /// A name or remapping argument ROS would reject.
+    #[error(transparent)]
+    Name(#[from] super::names::NameError),
     /// roslibrust refused an operation (registering, advertising, subscribing).
     #[error("ROS: {0}")]
     Node(String),
@@ -24,45 +28,51 @@ pub enum RosError {
     Protocol(String),
 }
 
-/// Registers node `name` with the master at `uri`.
-pub async fn node(uri: &str, name: &str) -> Result<NodeHandle, RosError> {
-    tokio::time::timeout(Duration::from_secs(10), NodeHandle::new(uri, name))
-        .await
-        .map_err(|_| RosError::Timeout(format!("registering node {name} with the master at {uri}")))?
-        .map_err(|e| RosError::Node(format!("cannot register node {name} with the master at {uri}: {e}")))
+/// A registered node and the names it resolves topics and services with.
+pub struct RosNode {
+    /// roslibrust's handle (kept alive with the node).
+    pub nh: NodeHandle,
+    /// Namespace, node name and remappings.
+    pub names: Names,
 }
 
-/// `topic` as a global name: roslibrust 0.26 matches the master's `publisherUpdate` (which
-/// names topics globally) against the name as given, so a relative name would never connect
-/// to publishers that appear after the subscription.
-pub fn global(topic: &str) -> String {
-    if topic.starts_with('/') { topic.to_string() } else { format!("/{topic}") }
-}
+impl RosNode {
+    /// Registers the node `names` with the master at `uri`.
+    pub async fn new(uri: &str, names: Names) -> Result<RosNode, RosError> {
+        let name = names.node_name();
+        let nh = tokio::time::timeout(Duration::from_secs(10), NodeHandle::new(uri, &name))
+            .await
+            .map_err(|_| RosError::Timeout(format!("registering node {name} with the master at {uri}")))?
+            .map_err(|e| RosError::Node(format!("cannot register node {name} with the master at {uri}: {e}")))?;
+        Ok(RosNode { nh, names })
+    }
 
-/// Advertises `topic` (latched or not).
-pub async fn advertise<T: RosMessageType>(nh: &NodeHandle, topic: &str, latched: bool) -> Result<Publisher<T>, RosError> {
-    nh.advertise::<T>(&global(topic), 16, latched).await.map_err(|e| RosError::Node(format!("advertising {topic}: {e}")))
-}
+    /// Advertises `topic` (resolved; latched or not).
+    pub async fn advertise<T: RosMessageType>(&self, topic: &str, latched: bool) -> Result<Publisher<T>, RosError> {
+        let g = self.names.resolve(topic);
+        self.nh.advertise::<T>(&g, 16, latched).await.map_err(|e| RosError::Node(format!("advertising {g}: {e}")))
+    }
 
-/// Subscribes to `topic`; messages arrive on the returned channel in order. Messages that fail
-/// to decode are logged and dropped (the connection and the node live on).
-pub async fn subscribe<T: RosMessageType>(nh: &NodeHandle, topic: &str) -> Result<mpsc::UnboundedReceiver<T>, RosError> {
-    let mut sub = nh.subscribe::<T>(&global(topic), 1000).await.map_err(|e| RosError::Node(format!("subscribing to {topic}: {e}")))?;
-    let (tx, rx) = mpsc::unbounded_channel();
-    let topic = topic.to_string();
-    tokio::spawn(async move {
-        while let Some(m) = sub.next().await {
-            match m {
-                Ok(m) => {
-                    if tx.send(m).is_err() {
-                        break;
+    /// Subscribes to `topic` (resolved); messages arrive on the returned channel in order.
+    /// Messages that fail to decode are logged and dropped (the connection and the node live on).
+    pub async fn subscribe<T: RosMessageType>(&self, topic: &str) -> Result<mpsc::UnboundedReceiver<T>, RosError> {
+        let g = self.names.resolve(topic);
+        let mut sub = self.nh.subscribe::<T>(&g, 1000).await.map_err(|e| RosError::Node(format!("subscribing to {g}: {e}")))?;
+        let (tx, rx) = mpsc::unbounded_channel();
+        tokio::spawn(async move {
+            while let Some(m) = sub.next().await {
+                match m {
+                    Ok(m) => {
+                        if tx.send(m).is_err() {
+                            break;
+                        }
                     }
+                    Err(e) => tracing::warn!("{g}: dropped a message: {e}"),
                 }
-                Err(e) => tracing::warn!("{topic}: dropped a message: {e}"),
             }
-        }
-    });
-    Ok(rx)
+        });
+        Ok(rx)
+    }
 }
 
 /// Receives the next message from `rx` within `timeout`, naming `what` on failure.
@@ -74,62 +84,62 @@ pub async fn recv<T>(rx: &mut mpsc::UnboundedReceiver<T>, timeout: Duration, wha
     }
 }
 
-/// Messages with a header sequence number.
-pub trait Sequenced {
-    /// `header.seq`.
-    fn seq(&self) -> u32;
+/// Messages with a header stamp.
+pub trait Stamped {
+    /// `header.stamp` as (secs, nsecs).
+    fn stamp(&self) -> (i32, i32);
 }
 
-macro_rules! sequenced {
-    ($($t:ty),*) => {$(impl Sequenced for $t { fn seq(&self) -> u32 { self.header.seq } })*};
+macro_rules! stamped {
+    ($($t:ty),*) => {$(impl Stamped for $t { fn stamp(&self) -> (i32, i32) { (self.header.stamp.secs, self.header.stamp.nsecs) } })*};
 }
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs};
-sequenced!(gm::PoseStamped, gm::PoseWithCovarianceStamped, nav_msgs::Odometry, nav_msgs::OccupancyGrid, sensor_msgs::LaserScan);
+stamped!(gm::PoseStamped, gm::PoseWithCovarianceStamped, nav_msgs::Odometry, nav_msgs::OccupancyGrid, sensor_msgs::LaserScan);
 
-/// A subscription's messages with handshake probes (`header.seq` = `PROBE_SEQ`) taken out:
-/// it remembers that a probe came (the connection is up) and queues the real messages.
-pub struct Inbox<T> {
+/// A subscription whose messages are taken by their stamp: lock-step pairs a step's messages
+/// on separate topics by `header.stamp` (which rospy and rosbag keep), never by arrival order
+/// or `header.seq`.
+pub struct StampInbox<T> {
     rx: mpsc::UnboundedReceiver<T>,
     pending: std::collections::VecDeque<T>,
-    /// Whether a probe has arrived.
-    pub probed: bool,
 }
 
-impl<T: Sequenced> Inbox<T> {
+impl<T: Stamped> StampInbox<T> {
     /// Wraps a subscription.
     pub fn new(rx: mpsc::UnboundedReceiver<T>) -> Self {
-        Self { rx, pending: Default::default(), probed: false }
+        Self { rx, pending: Default::default() }
     }
 
-    /// Takes in whatever has arrived, without waiting.
-    pub fn absorb(&mut self) {
-        while let Ok(m) = self.rx.try_recv() {
-            if m.seq() == super::sim_node::PROBE_SEQ {
-                self.probed = true;
-            } else {
-                self.pending.push_back(m);
-            }
-        }
-    }
-
-    /// The next real message, waiting up to `timeout`.
-    pub async fn next(&mut self, timeout: Duration, what: &str) -> Result<T, RosError> {
+    /// The message stamped `stamp`, waiting up to `timeout`; messages stamped earlier are
+    /// dropped (a step's messages come once, or again with the same stamp when resent), later
+    /// ones kept for their own step.
+    pub async fn take(&mut self, stamp: (i32, i32), timeout: Duration, what: &str) -> Result<T, RosError> {
+        let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            if let Some(m) = self.pending.pop_front() {
-                return Ok(m);
+            while let Some(m) = self.pending.pop_front() {
+                match m.stamp().cmp(&stamp) {
+                    std::cmp::Ordering::Less => {}
+                    std::cmp::Ordering::Equal => return Ok(m),
+                    std::cmp::Ordering::Greater => {
+                        self.pending.push_front(m);
+                        break;
+                    }
+                }
             }
-            let m = recv(&mut self.rx, timeout, what).await?;
-            if m.seq() == super::sim_node::PROBE_SEQ {
-                self.probed = true;
-            } else {
-                return Ok(m);
+            if self.pending.front().is_some_and(|m| m.stamp() > stamp) {
+                return Err(RosError::Protocol(format!("{what}: a later message came but none stamped {}.{:09}", stamp.0, stamp.1)));
             }
+            let left = deadline.saturating_duration_since(tokio::time::Instant::now());
+            let m = recv(&mut self.rx, left, what).await?;
+            self.pending.push_back(m);
         }
     }
 
-    /// The newest real message that has arrived, if any (older ones are dropped).
+    /// The newest message that has arrived, if any (older ones are dropped).
     pub fn latest(&mut self) -> Option<T> {
-        self.absorb();
+        while let Ok(m) = self.rx.try_recv() {
+            self.pending.push_back(m);
+        }
         let last = self.pending.pop_back();
         self.pending.clear();
         last

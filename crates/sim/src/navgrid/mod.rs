@@ -112,9 +112,17 @@ pub struct NavGrid {
     /// Index of the segment nearest to each cell centre, when a segment is the nearest
     /// obstacle and within reach (`u32::MAX` otherwise).
     pub(crate) nearest: Vec<u32>,
+    /// The geodesic fields built lately on this grid.
+    pub(crate) fields: crate::field_cache::FieldCache,
 }
 
 impl NavGrid {
+    /// The geodesic field of `goals` on this grid, shared with whoever asked for the same
+    /// goals lately in this process.
+    pub fn field(&self, goals: &[xhab_types::Point2]) -> std::sync::Arc<crate::geodesic::GeodesicField> {
+        self.fields.get(self, goals)
+    }
+
     /// Builds the navigable region of `scene` on the floor at height `floor_z` (m).
     pub fn build(scene: &Scene, params: &AgentParams, floor_z: f64) -> Result<NavGrid, NavGridError> {
         validate(params)?;
@@ -210,6 +218,7 @@ impl NavGrid {
             anchor: Vec::new(),
             segments: segs,
             nearest,
+            fields: Default::default(),
         };
         grid.label_islands();
         grid.find_corners();

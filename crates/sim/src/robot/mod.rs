@@ -5,5 +5,5 @@ pub mod profile;
 pub mod rigid;
 
 pub use odometry::{OdometryNoise, WheelOdometry};
-pub use profile::{ProfileError, RobotProfile};
+pub use profile::{LaserMount, ProfileError, RobotProfile};
 pub use rigid::{PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, SharedPhysicsScene};

@@ -30,6 +30,36 @@ pub struct RobotProfile {
     /// Footprint polygon in the base frame (m), when not round.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub footprint: Option<Vec<[f64; 2]>>,
+    /// The planar laser's mount: its tf frame and where it sits on the base.
+    #[serde(default)]
+    pub laser: LaserMount,
+}
+
+/// Where the planar laser sits on the base (REP-105: a static base_link -> `frame` transform).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LaserMount {
+    /// Its tf frame id (default `laser`).
+    pub frame: String,
+    /// Offset forward of the base's centre (m, default 0).
+    pub x: f64,
+    /// Offset to the left of the base's centre (m, default 0).
+    pub y: f64,
+    /// Height of the scan plane above the floor (m, default 0.2).
+    pub z: f64,
+}
+
+impl LaserMount {
+    /// The simulated lidar (LDS-01 beams and ranges) at this mount.
+    pub fn lidar(&self) -> crate::sensors::LidarParams {
+        crate::sensors::LidarParams { mount_height: self.z, mount_xy: [self.x, self.y], ..Default::default() }
+    }
+}
+
+impl Default for LaserMount {
+    fn default() -> Self {
+        Self { frame: "laser".into(), x: 0.0, y: 0.0, z: 0.2 }
+    }
 }
 
 /// Why a profile could not be loaded.
@@ -118,10 +148,17 @@ impl RobotProfile {
             ("max_linear_accel", self.max_linear_accel),
             ("max_angular_accel", self.max_angular_accel),
             ("camera_height", self.camera_height),
+            ("laser.z", self.laser.z),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err((f, format!("must be a positive number, got {v}")));
             }
+        }
+        if !(self.laser.x.is_finite() && self.laser.y.is_finite()) {
+            return Err(("laser", format!("x and y must be finite, got {} and {}", self.laser.x, self.laser.y)));
+        }
+        if self.laser.frame.is_empty() || self.laser.frame.contains(char::is_whitespace) {
+            return Err(("laser.frame", format!("must be a tf frame id, got '{}'", self.laser.frame)));
         }
         Ok(())
     }

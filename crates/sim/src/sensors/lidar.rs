@@ -23,6 +23,8 @@ pub struct LidarParams {
     pub range_max: f64,
     /// Height of the scan plane above the floor (m, default 0.2).
     pub mount_height: f64,
+    /// Where the laser sits forward of and left of the base's centre (m, default 0, 0).
+    pub mount_xy: [f64; 2],
     /// Standard deviation of Gaussian range noise (m, default 0: off).
     pub noise_std: f64,
 }
@@ -37,6 +39,7 @@ impl Default for LidarParams {
             range_min: 0.12,
             range_max: 3.5,
             mount_height: 0.2,
+            mount_xy: [0.0, 0.0],
             noise_std: 0.0,
         }
     }
@@ -62,7 +65,8 @@ impl Lidar {
         let p = &self.params;
         let n = p.beams.max(1);
         let inc = if n > 1 { (p.angle_max - p.angle_min) / (n - 1) as f64 } else { 0.0 };
-        let origin = [base.x, base.y, floor_z + p.mount_height];
+        let at = base.compose(Pose2::new(p.mount_xy[0], p.mount_xy[1], 0.0));
+        let origin = [at.x, at.y, floor_z + p.mount_height];
         let mut ranges = Vec::with_capacity(n);
         for i in 0..n {
             let a = base.yaw + p.angle_min + i as f64 * inc;

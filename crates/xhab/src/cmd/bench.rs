@@ -147,7 +147,8 @@ fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World, rendere
         (true, _) => None,
         (false, ScanSourceArg::Lidar) => {
             let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-            Some(ScanSource::lidar(Arc::new(rs)))
+            let lidar = robot.map_or_else(Default::default, |r| r.laser.lidar());
+            Some(ScanSource::lidar(Arc::new(rs), lidar))
         }
         (false, ScanSourceArg::Depth) => {
             let renderer = renderer.context("a renderer for the depth scans")?;

@@ -34,7 +34,7 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
     }
     params.amcl.max_particles = a.particles;
     let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-    let setup = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(ScanSource::lidar(Arc::new(rs))), scan_period: 0.1 };
+    let setup = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(ScanSource::lidar(Arc::new(rs), profile.laser.lidar())), scan_period: 0.1 };
     let map = match &a.map {
         Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
         None => None,
