@@ -23,6 +23,9 @@ pub enum AgentKind {
     Oracle,
     /// The native navigation stack (costmap, planner, DWA, navigator) with velocity commands.
     Nav,
+    /// An external ROS navigation stack, driven through its standard interfaces
+    /// (`xhab bench --agent ros`).
+    Ros,
 }
 
 impl AgentKind {
@@ -31,7 +34,7 @@ impl AgentKind {
     pub fn build(self) -> Option<Box<dyn DiscreteAgent>> {
         match self {
             AgentKind::Oracle => Some(Box::new(OracleAgent(ShortestPathFollower::new()))),
-            AgentKind::Nav => None,
+            AgentKind::Nav | AgentKind::Ros => None,
         }
     }
     /// The name used on the command line and in reports.
@@ -39,6 +42,7 @@ impl AgentKind {
         match self {
             AgentKind::Oracle => "oracle",
             AgentKind::Nav => "nav",
+            AgentKind::Ros => "ros",
         }
     }
 }

@@ -299,5 +299,6 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         stuck: Some(env.stuck() || aborted),
         localization_error: brain.localization_error(),
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
+        ros: None,
     })
 }

@@ -88,6 +88,9 @@ pub struct EpisodeRun {
     /// Camera frames rendered, and the wall time spent rendering them (s) (`--sensors` runs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub render: Option<(u64, f64)>,
+    /// How an external ROS stack's episode went (`--agent ros` runs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros: Option<crate::ros::external::RosEpisode>,
 }
 
 /// An episode that could not run, and why.
@@ -200,6 +203,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         stuck,
         localization_error: None,
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
+        ros: None,
     })
 }
 

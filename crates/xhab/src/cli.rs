@@ -119,6 +119,10 @@ pub struct RosOpts {
     /// Seconds to wait for a peer in lock-step before failing.
     #[arg(long, default_value_t = 30.0, help_heading = "ROS")]
     pub ros_timeout: f64,
+    /// ROS arguments as rosrun and roslaunch pass them: remappings `from:=to`, `__ns:=NS`,
+    /// `__name:=NAME` (`$ROS_NAMESPACE` is honoured too; `__log:=` and the like are ignored).
+    #[arg(value_name = "FROM:=TO", help_heading = "ROS")]
+    pub ros_args: Vec<String>,
 }
 
 /// `xhab ros sim`.
@@ -164,6 +168,10 @@ pub struct RosSimArgs {
     /// Seed of the start pose and noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Who publishes map -> odom: a localiser of the stack's, or the simulator from ground
+    /// truth (as fake_localization, for stacks without one).
+    #[arg(long, value_enum, default_value_t = MapOdomArg::Stack)]
+    pub map_odom: MapOdomArg,
     #[command(flatten)]
     pub ros: RosOpts,
     #[command(flatten)]
@@ -350,6 +358,37 @@ pub enum AgentArg {
     Oracle,
     /// The native navigation stack (costmap, A*, DWA, navigator) under physics with velocities.
     Nav,
+    /// An external ROS navigation stack (move_base + amcl, a rospy node, `xhab ros nav`),
+    /// driven through tf, /clock, initialpose, the move_base action and cmd_vel.
+    Ros,
+}
+
+/// How goals reach an external stack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GoalInterfaceArg {
+    /// The move_base action (move_base_msgs/MoveBaseAction).
+    Action,
+    /// move_base_simple/goal (the outcome is read from move_base/status).
+    Simple,
+}
+
+/// Who publishes map -> odom for an external stack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MapOdomArg {
+    /// The stack (its own localiser, e.g. amcl).
+    Stack,
+    /// The simulator, from ground truth (as fake_localization).
+    #[value(name = "ground-truth", alias = "ground_truth")]
+    GroundTruth,
+}
+
+/// How the simulated clock follows an external stack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PaceArg {
+    /// After each tick wait for the stack's cmd_vel (up to --cmd-vel-grace).
+    Lockstep,
+    /// Run at --rate times real time.
+    Realtime,
 }
 
 /// Localisation of the nav agent.
@@ -439,6 +478,30 @@ pub struct BenchArgs {
     /// Seconds to wait for a ROS peer before failing.
     #[arg(long, default_value_t = 30.0, help_heading = "ROS")]
     pub ros_timeout: f64,
+    /// How goals reach the stack under test (`--agent ros`).
+    #[arg(long, value_enum, default_value_t = GoalInterfaceArg::Action, help_heading = "External ROS stack (--agent ros)")]
+    pub goal_interface: GoalInterfaceArg,
+    /// A command that starts the stack (`sh -c CMD`, once the master has /use_sim_time; stopped at the end).
+    #[arg(long, value_name = "CMD", help_heading = "External ROS stack (--agent ros)")]
+    pub launch: Option<String>,
+    /// Simulated seconds after which an episode's goal is cancelled.
+    #[arg(long, default_value_t = 120.0, help_heading = "External ROS stack (--agent ros)")]
+    pub episode_timeout: f64,
+    /// Who publishes map -> odom: the stack (its amcl), or the simulator from ground truth.
+    #[arg(long, value_enum, default_value_t = MapOdomArg::Stack, help_heading = "External ROS stack (--agent ros)")]
+    pub map_odom: MapOdomArg,
+    /// How the clock follows the stack.
+    #[arg(long, value_enum, default_value_t = PaceArg::Lockstep, help_heading = "External ROS stack (--agent ros)")]
+    pub pace: PaceArg,
+    /// Simulated seconds per wall second with --pace realtime.
+    #[arg(long, default_value_t = 1.0, help_heading = "External ROS stack (--agent ros)")]
+    pub rate: f64,
+    /// Wall seconds to wait for cmd_vel after each tick with --pace lockstep.
+    #[arg(long, default_value_t = 0.5, help_heading = "External ROS stack (--agent ros)")]
+    pub cmd_vel_grace: f64,
+    /// Clock ticks per simulated second: the stack's controller_frequency (Hz).
+    #[arg(long, default_value_t = 20.0, help_heading = "External ROS stack (--agent ros)")]
+    pub controller_frequency: f64,
     #[command(flatten)]
     pub physics: PhysicsOpts,
     #[command(flatten)]

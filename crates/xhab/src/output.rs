@@ -116,6 +116,21 @@ pub struct EpisodeReport {
     /// Wall time spent rendering them (s) (`--sensors` runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub render_s: Option<f64>,
+    /// The goal's terminal action state: SUCCEEDED, ABORTED, PREEMPTED, ... (`--agent ros`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros_status: Option<String>,
+    /// Why the episode ended: terminal_state, timeout, stuck, step_limit (`--agent ros`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros_end: Option<String>,
+    /// Clock ticks after which the stack's cmd_vel did not come within the grace (`--agent ros`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cmd_vel_missed: Option<u64>,
+    /// Wall time spent waiting for the stack (s) (`--agent ros`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stack_wait_s: Option<f64>,
+    /// Simulated time from sending the goal to the stack's acknowledgement (s) (`--agent ros`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal_ack_s: Option<f64>,
 }
 
 impl From<&EpisodeRun> for EpisodeReport {
@@ -141,6 +156,11 @@ impl From<&EpisodeRun> for EpisodeReport {
             localization_error_deg: r.localization_error.map(|e| e[1].to_degrees()),
             frames: r.render.map(|r| r.0),
             render_s: r.render.map(|r| r.1),
+            ros_status: r.ros.as_ref().map(|x| x.ros_status.clone()),
+            ros_end: r.ros.as_ref().map(|x| x.end.clone()),
+            cmd_vel_missed: r.ros.as_ref().map(|x| x.cmd_vel_missed),
+            stack_wait_s: r.ros.as_ref().map(|x| x.stack_wait_s),
+            goal_ack_s: r.ros.as_ref().and_then(|x| x.goal_ack_s),
         }
     }
 }

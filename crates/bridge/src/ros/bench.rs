@@ -59,7 +59,8 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let mounts = mounts(cfg);
     let mut sim = SimNode::new(uri, Names::plain("xhab_sim"), &mounts.laser_frame, opts.timeout).await?;
     sim.publish_static_tf(&mounts).await?;
-    let mut clock_ns: i64 = 0;
+    // ROS time 0 means "no time yet" (and a zero stamp "none" in xhab_msgs): start at 1 s.
+    let mut clock_ns: i64 = 1_000_000_000;
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
     let mut ran = Vec::new();
     for (i, ep) in ds.episodes.iter().enumerate() {
@@ -237,5 +238,5 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
         MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck() || aborted)),
         MadeEnv::Plain(_) => (None, None),
     };
-    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)) })
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }

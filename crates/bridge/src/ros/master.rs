@@ -97,6 +97,31 @@ impl Master {
         }
     }
 
+    /// Sets the boolean parameter `name` (e.g. `/use_sim_time`) on the master, by XML-RPC's
+    /// `setParam`, as `rosparam set` does.
+    pub fn set_param_bool(&self, name: &str, value: bool) -> Result<(), MasterError> {
+        use std::io::{Read, Write};
+        let hp = host_port(&self.uri)?;
+        let body = format!(
+            "<?xml version=\"1.0\"?><methodCall><methodName>setParam</methodName><params><param><value><string>/xhab</string></value></param><param><value><string>{name}</string></value></param><param><value><boolean>{}</boolean></value></param></params></methodCall>",
+            value as u8
+        );
+        let req = format!("POST / HTTP/1.1\r\nHost: {hp}\r\nContent-Type: text/xml\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}", body.len());
+        let addr = hp.to_socket_addrs().ok().and_then(|mut a| a.next()).ok_or_else(|| MasterError::BadUri(self.uri.clone()))?;
+        let timeout = || MasterError::Timeout { uri: self.uri.clone(), secs: 5.0 };
+        let mut s = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|_| timeout())?;
+        s.set_read_timeout(Some(Duration::from_secs(5))).map_err(MasterError::Spawn)?;
+        s.write_all(req.as_bytes()).map_err(|_| timeout())?;
+        let mut reply = String::new();
+        let _ = s.read_to_string(&mut reply);
+        // The master answers [code, status message, ignore]; code 1 is success.
+        if reply.contains("<int>1</int>") || reply.contains("<i4>1</i4>") {
+            Ok(())
+        } else {
+            Err(MasterError::Spawn(std::io::Error::other(format!("setParam {name}: the master at {} answered: {}", self.uri, reply.lines().last().unwrap_or("")))))
+        }
+    }
+
     /// Whether this master was started by us.
     pub fn owned(&self) -> bool {
         self.child.is_some()

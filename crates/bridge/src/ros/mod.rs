@@ -13,3 +13,5 @@ pub mod agent_node;
 pub mod nav_node;
 pub mod bench;
 pub mod live;
+pub mod external;
+pub mod move_base_client;

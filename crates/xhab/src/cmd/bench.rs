@@ -1,6 +1,9 @@
 //! `xhab bench`: an agent on every episode of a dataset; metrics as JSON, CSV and a table.
 
-use crate::cli::{AgentArg, BenchArgs, LocalizationArg, PhysicsOpts, ScanSourceArg};
+use crate::cli::{AgentArg, BenchArgs, GoalInterfaceArg, LocalizationArg, MapOdomArg, PaceArg, PhysicsOpts, ScanSourceArg};
+use xhab_bridge::ros::external::{run_dataset_external, ExternalOptions, MapOdom, Pace};
+use xhab_bridge::ros::move_base_client::GoalInterface;
+use xhab_bridge::ros::names::Names;
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_nav::navigator::{params_from_yaml, NavParams};
 use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
@@ -29,7 +32,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let mut opts = a.scene_opts.clone();
     let mut physics_opts = a.physics.clone();
     // The nav agent drives with velocities: it always runs under physics.
-    physics_opts.physics |= matches!(a.agent, AgentArg::Nav);
+    physics_opts.physics |= matches!(a.agent, AgentArg::Nav | AgentArg::Ros);
     if physics_opts.physics && opts.agent_radius.is_none() {
         // Plan for the robot that drives.
         opts.agent_radius = Some(RobotProfile::named_or_file(&a.physics.robot).with_context(|| format!("--robot {}", a.physics.robot))?.radius);
@@ -39,6 +42,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let agent = match a.agent {
         AgentArg::Oracle => AgentKind::Oracle,
         AgentArg::Nav => AgentKind::Nav,
+        AgentArg::Ros => AgentKind::Ros,
     };
     let task = TaskConfig { success_distance: a.success_distance, max_episode_steps: a.max_steps, ..Default::default() };
     let physics = physics_setup(&world, &physics_opts)?;
@@ -47,18 +51,28 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let sensors = sensor_rig(a, renderer.clone(), camera_height)?;
     let nav = match a.agent {
         AgentArg::Nav => Some(nav_setup(a, physics.as_ref().map(|p| &p.profile), &world, renderer, camera_height)?),
-        AgentArg::Oracle => None,
+        AgentArg::Oracle | AgentArg::Ros => None,
     };
     let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav, sensors };
     let ros = (a.ros || a.compare_ros).then(|| RosOptions { master: a.ros_master.clone(), timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)) });
+    if a.agent == AgentArg::Ros {
+        if a.ros || a.compare_ros {
+            anyhow::bail!("--agent ros already runs over ROS: drop --ros/--compare-ros");
+        }
+        let ext = external_options(a, &world, cfg.physics.as_ref().map(|p| &p.profile), renderer_for_scans(a, &world)?, camera_height)?;
+        let world = Arc::new(world);
+        let name = a.episodes.display().to_string();
+        let (report, outcomes) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, Transport::External(&ext))?;
+        return finish(a, &world, &ds, report, &outcomes, agent);
+    }
     if ros.is_some() && cfg.threads > 1 {
         eprintln!("xhab: note: over ROS episodes run one at a time (lock-step); --threads applies to the in-process run only");
     }
     let world = Arc::new(world);
     let name = a.episodes.display().to_string();
     let (report, outcomes) = if a.compare_ros {
-        let (local, local_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, None)?;
-        let (mut remote, remote_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, ros.as_ref())?;
+        let (local, local_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, Transport::InProcess)?;
+        let (mut remote, remote_out) = bench(&world, &ds, &cfg, &a.scene, &name, quiet, Transport::Ros(ros.as_ref().expect("set with --compare-ros")))?;
         let diff = compare_outcomes(&local_out, &remote_out);
         remote.aggregate.ros_overhead = Some(remote.aggregate.wall_s / local.aggregate.wall_s.max(1e-9));
         remote.ros_check = Some(diff.clone());
@@ -69,10 +83,20 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         );
         (remote, remote_out)
     } else {
-        bench(&world, &ds, &cfg, &a.scene, &name, quiet, ros.as_ref())?
+        let t = ros.as_ref().map_or(Transport::InProcess, Transport::Ros);
+        bench(&world, &ds, &cfg, &a.scene, &name, quiet, t)?
     };
+    if report.ros_check.as_ref().is_some_and(|c| !c.identical) {
+        finish(a, &world, &ds, report, &outcomes, agent)?;
+        anyhow::bail!("--compare-ros: the run over ROS differs from the in-process run (see ros_check in the JSON)");
+    }
+    finish(a, &world, &ds, report, &outcomes, agent)
+}
+
+/// Writes the trajectories, JSON and CSV a run asked for, and prints its table.
+fn finish(a: &BenchArgs, world: &World, ds: &Dataset, report: BenchReport, outcomes: &[Outcome], agent: AgentKind) -> Result<ExitCode> {
     if let Some(dir) = &a.trajectories {
-        draw_trajectories(&world, &ds, &outcomes, dir)?;
+        draw_trajectories(world, ds, outcomes, dir)?;
     }
     if let Some(out) = &a.out {
         super::ensure_parent(out)?;
@@ -143,7 +167,14 @@ fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World, rendere
     if a.no_scans && localization == Localization::Amcl {
         anyhow::bail!("--localization amcl needs laser scans: drop --no-scans");
     }
-    let scan = match (a.no_scans, a.scan_source) {
+    let scan = scan_source(a, world, robot, renderer, camera_height)?;
+    Ok(NavSetup { params, map, localization, scan, scan_period: 0.1 })
+}
+
+/// The laser scans of `--scan-source` (None with `--no-scans`): the robot's lidar at its
+/// mount, or the depth camera through depthimage_to_laserscan.
+fn scan_source(a: &BenchArgs, world: &World, robot: Option<&RobotProfile>, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<Option<ScanSource>> {
+    Ok(match (a.no_scans, a.scan_source) {
         (true, _) => None,
         (false, ScanSourceArg::Lidar) => {
             let rs = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
@@ -156,8 +187,7 @@ fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World, rendere
             let noise = DepthNoise { sigma_at_1m: a.depth_noise, edge_threshold: 0.1, edge_dropout: a.edge_dropout };
             Some(ScanSource::Depth { rig: Arc::new(CameraRig { renderer, params, rgb: false, noise }), params: DepthToScanParams::default() })
         }
-    };
-    Ok(NavSetup { params, map, localization, scan, scan_period: 0.1 })
+    })
 }
 
 /// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.
@@ -177,21 +207,68 @@ pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSet
     Ok(Some(PhysicsSetup { scene: Arc::new(scene), profile, config }))
 }
 
+/// Where a benchmark's agent runs.
+#[derive(Debug, Clone, Copy)]
+pub enum Transport<'a> {
+    /// In this process.
+    InProcess,
+    /// As a separate ROS node in lock-step (`--ros`).
+    Ros(&'a RosOptions),
+    /// An external ROS stack (`--agent ros`).
+    External(&'a ExternalOptions),
+}
+
+/// The renderer for depth scans of an external stack (`--scan-source depth`), if needed.
+fn renderer_for_scans(a: &BenchArgs, world: &World) -> Result<Option<Arc<Renderer>>> {
+    if a.scan_source == ScanSourceArg::Depth && !a.no_scans {
+        return Ok(Some(Arc::new(super::render::renderer(&a.camera, &world.scene)?)));
+    }
+    Ok(None)
+}
+
+/// How `--agent ros` drives the stack under test.
+fn external_options(a: &BenchArgs, world: &World, robot: Option<&RobotProfile>, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<ExternalOptions> {
+    let map = match &a.map {
+        Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
+        None => None,
+    };
+    if !(a.episode_timeout > 0.0) || !(a.cmd_vel_grace >= 0.0 && a.cmd_vel_grace.is_finite()) || !(a.rate > 0.0 && a.rate.is_finite()) {
+        anyhow::bail!("--episode-timeout and --rate must be > 0 and --cmd-vel-grace >= 0");
+    }
+    let scan = scan_source(a, world, robot, renderer, camera_height)?;
+    Ok(ExternalOptions {
+        master: a.ros_master.clone().or_else(|| std::env::var("ROS_MASTER_URI").ok().filter(|s| !s.is_empty())),
+        timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)),
+        names: Names::plain("xhab_sim"),
+        goal_interface: match a.goal_interface {
+            GoalInterfaceArg::Action => GoalInterface::Action,
+            GoalInterfaceArg::Simple => GoalInterface::Simple,
+        },
+        episode_timeout: a.episode_timeout,
+        map_odom: match a.map_odom {
+            MapOdomArg::Stack => MapOdom::Stack,
+            MapOdomArg::GroundTruth => MapOdom::GroundTruth,
+        },
+        pace: match a.pace {
+            PaceArg::Lockstep => Pace::Lockstep { grace: std::time::Duration::from_secs_f64(a.cmd_vel_grace) },
+            PaceArg::Realtime => Pace::Realtime { rate: a.rate },
+        },
+        controller_frequency: a.controller_frequency,
+        map,
+        launch: a.launch.clone(),
+        scan,
+        scan_period: 0.1,
+    })
+}
+
 /// Runs the benchmark and builds its report (warnings for invalid episodes on stderr).
-pub fn bench(
-    world: &Arc<World>,
-    ds: &Dataset,
-    cfg: &RunConfig,
-    scene: &str,
-    episodes_file: &str,
-    quiet: bool,
-    ros: Option<&RosOptions>,
-) -> Result<(BenchReport, Vec<Outcome>)> {
+pub fn bench(world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, episodes_file: &str, quiet: bool, transport: Transport<'_>) -> Result<(BenchReport, Vec<Outcome>)> {
     let pb = super::progress(ds.episodes.len(), quiet, cfg.agent.name());
     let t0 = Instant::now();
-    let outcomes = match ros {
-        None => run_dataset(world, ds, cfg, &|| pb.inc(1)),
-        Some(o) => run_dataset_ros(world.clone(), ds, cfg, o, &|| pb.inc(1)).context("running the benchmark over ROS")?,
+    let outcomes = match transport {
+        Transport::InProcess => run_dataset(world, ds, cfg, &|| pb.inc(1)),
+        Transport::Ros(o) => run_dataset_ros(world.clone(), ds, cfg, o, &|| pb.inc(1)).context("running the benchmark over ROS")?,
+        Transport::External(o) => run_dataset_external(world.clone(), ds, cfg, o, &|| pb.inc(1)).context("benchmarking the external ROS stack")?,
     };
     let wall = t0.elapsed().as_secs_f64();
     pb.finish_and_clear();
@@ -234,7 +311,7 @@ pub fn bench(
             reasons: invalid,
         },
         episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
-        ros: ros.is_some(),
+        ros: !matches!(transport, Transport::InProcess),
         ros_check: None,
     };
     Ok((report, outcomes))

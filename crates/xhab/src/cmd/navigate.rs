@@ -61,7 +61,7 @@ pub fn run(a: &NavigateArgs) -> Result<ExitCode> {
         params: params.clone(),
         map: Some(Arc::new(map.clone())),
         localization: Localization::GroundTruth,
-        scan: Some(xhab_bridge::scan_source::ScanSource::lidar(Arc::new(rs), profile.laser.lidar())),
+        scan: Some(xhab_bridge::scan_source::ScanSource::lidar(Arc::new(rs), physics.profile.laser.lidar())),
         scan_period: 0.1,
     };
     let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, sensors: None, physics: Some(physics), seed: 0, nav: Some(nav) };

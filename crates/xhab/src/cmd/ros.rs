@@ -1,6 +1,8 @@
 //! `xhab ros sim|nav|agent`: the simulator, the native stack and a discrete agent as ROS 1 nodes.
 
-use crate::cli::{LocalizationArg, RosCommand, RosOpts};
+use crate::cli::{LocalizationArg, MapOdomArg, RosCommand, RosOpts};
+use xhab_bridge::ros::names::Names;
+use xhab_bridge::ros::sim_node::Mounts;
 use crate::scene_arg::load_world;
 use anyhow::{bail, Context, Result};
 use rand::SeedableRng;
@@ -17,6 +19,12 @@ use xhab_types::Pose2;
 /// The master: --ros-master, else $ROS_MASTER_URI, else `None` (start one).
 fn master_uri(o: &RosOpts) -> Option<String> {
     o.ros_master.clone().or_else(|| std::env::var("ROS_MASTER_URI").ok().filter(|s| !s.is_empty()))
+}
+
+/// The node's names: `--name` (else `default`), then the ROS arguments and `$ROS_NAMESPACE`.
+fn names(o: &RosOpts, default: &str) -> Result<Names> {
+    let ns = std::env::var("ROS_NAMESPACE").ok().filter(|s| !s.is_empty());
+    Ok(Names::from_args(o.name.as_deref().unwrap_or(default), &o.ros_args, ns.as_deref())?)
 }
 
 pub fn run(c: &RosCommand) -> Result<ExitCode> {
@@ -52,7 +60,13 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 Some(m) => xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0,
                 None => grid.occupancy_grid(),
             };
-            let lidar = LidarParams::default();
+            let lidar = physics.as_ref().map_or_else(LidarParams::default, |p| p.profile.laser.lidar());
+            let mounts = Mounts {
+                laser_frame: physics.as_ref().map_or_else(|| "laser".into(), |p| p.profile.laser.frame.clone()),
+                laser: Pose2::new(lidar.mount_xy[0], lidar.mount_xy[1], 0.0),
+                laser_z: lidar.mount_height,
+                camera_z: physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height),
+            };
             let amcl_map = match (&a.amcl_map, &a.map) {
                 (Some(m), _) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
                 (None, None) => Some(grid.slice_map(&world.scene, lidar.mount_height, xhab_bridge::nav_agent::SCAN_PLANE_HALF_BAND)),
@@ -61,7 +75,9 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             let cam = super::render::camera(&a.cam, physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height))?;
             let o = LiveOptions {
                 master: master_uri(&a.ros),
-                name: a.ros.name.clone().unwrap_or_else(|| "xhab_sim".into()),
+                names: names(&a.ros, "xhab_sim")?,
+                mounts,
+                map_odom_ground_truth: a.map_odom == MapOdomArg::GroundTruth,
                 physics,
                 start,
                 start_z: z,
@@ -108,15 +124,15 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
                 LocalizationArg::Amcl => Localization::Amcl,
             };
             let setup = NavSetup { params, map: None, localization, scan: None, scan_period: 0.1 };
-            let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, expect_scans: true, expect_amcl_map: false, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
+            let o = xhab_bridge::ros::nav_node::NavNodeOptions { setup, lockstep: a.ros.lockstep, seed: a.seed, timeout: Duration::from_secs_f64(a.ros.ros_timeout.max(0.1)) };
             let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
             eprintln!("xhab: ROS master {}", master.uri);
-            let name = a.ros.name.clone().unwrap_or_else(|| "xhab_nav".into());
+            let name = names(&a.ros, "xhab_nav")?;
             let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
             rt.block_on(async {
                 let (_tx, rx) = tokio::sync::watch::channel(false);
                 tokio::select! {
-                    r = xhab_bridge::ros::nav_node::run(&master.uri, &name, o, map, amcl_map, rx, None) => r,
+                    r = xhab_bridge::ros::nav_node::run(&master.uri, name, o, map, amcl_map, rx, None) => r,
                     _ = tokio::signal::ctrl_c() => Ok(()),
                 }
             })?;
@@ -125,13 +141,13 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             let world = Arc::new(load_world(&a.scene, &a.scene_opts)?);
             let master = Master::connect_or_start(master_uri(&a.ros).as_deref())?;
             eprintln!("xhab: ROS master {}", master.uri);
-            let name = a.ros.name.clone().unwrap_or_else(|| "xhab_agent".into());
+            let name = names(&a.ros, "xhab_agent")?;
             let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
             let timeout = Duration::from_secs_f64(a.ros.ros_timeout.max(0.1));
             rt.block_on(async {
                 let (_tx, rx) = tokio::sync::watch::channel(false);
                 tokio::select! {
-                    r = xhab_bridge::ros::agent_node::run(&master.uri, &name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, rx) => r,
+                    r = xhab_bridge::ros::agent_node::run(&master.uri, name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, rx) => r,
                     _ = tokio::signal::ctrl_c() => Ok(()),
                 }
             })?;
