@@ -9,7 +9,8 @@ cd "$(dirname "$0")/.."
 # (llvmpipe) so that the wgpu renderer runs headless without a GPU.
 pkgs=(python3-rosmaster python3-rospy python3-rostopic python3-rosbag
       python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs
-      python3-tf2-msgs python3-rosgraph-msgs
+      python3-tf2-msgs python3-rosgraph-msgs python3-actionlib python3-actionlib-msgs
+      python3-tf2-ros python3-move-base-msgs python3-std-srvs
       mesa-vulkan-drivers)
 need=()
 for p in "${pkgs[@]}"; do

@@ -1,5 +1,6 @@
 //! ROS 1 message types generated at build time from `ros_msgs/` (std, geometry, sensor, nav,
-//! tf2, rosgraph and actionlib msgs), with their real md5sums.
+//! tf2, rosgraph, actionlib, move_base msgs, std_srvs, and xhab's own xhab_msgs), with their
+//! real md5sums.
 #![allow(missing_docs, clippy::all, non_snake_case, non_camel_case_types, unused_imports)]
 
 include!(concat!(env!("OUT_DIR"), "/ros_msgs.rs"));
@@ -11,7 +12,13 @@ mod tests {
     /// The md5sums real ROS 1 (Debian's rospy) reports for the types we exchange.
     #[test]
     fn md5sums_match_real_ros() {
-        let cases: [(&str, &str); 11] = [
+        let cases: [(&str, &str); 17] = [
+            (super::move_base_msgs::MoveBaseActionGoal::DESCRIPTION.md5sum, "660d6895a1b9a16dce51fbdd9a64a56b"),
+            (super::move_base_msgs::MoveBaseActionResult::DESCRIPTION.md5sum, "1eb06eeff08fa7ea874431638cb52332"),
+            (super::move_base_msgs::MoveBaseActionFeedback::DESCRIPTION.md5sum, "7d1870ff6e0decea702b943b5af0b42e"),
+            (super::actionlib_msgs::GoalStatusArray::DESCRIPTION.md5sum, "8b2b82f13216d0a8ea88bd3af735e619"),
+            (super::actionlib_msgs::GoalID::DESCRIPTION.md5sum, "302881f31927c1df708a2dbab0e80ee8"),
+            (<super::std_srvs::Empty as roslibrust::RosServiceType>::MD5SUM, "d41d8cd98f00b204e9800998ecf8427e"),
             (super::sensor_msgs::LaserScan::DESCRIPTION.md5sum, "90c7ef2dc6895d81024acba2ac42f369"),
             (super::sensor_msgs::Image::DESCRIPTION.md5sum, "060021388200f6f0f447d0fcd9c64743"),
             (super::sensor_msgs::CameraInfo::DESCRIPTION.md5sum, "c9a58c1b0b154e0e6da7578cb991d214"),
