@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use xhab_bridge::ros::master::Master;
 
 /// Whether real ROS is here; panics when `XHAB_REQUIRE_ROS=1` demands it.
-fn ros_available(test: &str) -> bool {
+pub fn ros_available(test: &str) -> bool {
     let ok = Command::new("which").arg("rosmaster").stdout(Stdio::null()).status().is_ok_and(|s| s.success())
         && Command::new("/usr/bin/python3").args(["-c", "import rospy, rosbag"]).stderr(Stdio::null()).status().is_ok_and(|s| s.success());
     if !ok {
@@ -19,7 +19,7 @@ fn ros_available(test: &str) -> bool {
     ok
 }
 
-struct Killed(Child);
+pub struct Killed(pub Child);
 impl Drop for Killed {
     fn drop(&mut self) {
         let _ = self.0.kill();

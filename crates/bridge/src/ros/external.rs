@@ -239,6 +239,8 @@ async fn episode(
     let mut cmd = Twist::default();
     let (mut missed, mut wait_s, mut ack_at) = (0u64, 0.0f64, None);
     let mut last_send = Instant::now();
+    let mut sent_at = Instant::now();
+    let mut last_cmd = Instant::now();
     let mut sent = false;
     let mut n = 0u64;
     let t_real = Instant::now();
@@ -271,6 +273,7 @@ async fn episode(
             client.send(&format!("xhab-{}-{}", index, ep.episode_id), st.stamp, target).await?;
             sent = true;
             last_send = Instant::now();
+            sent_at = last_send;
         }
         let state = client.absorb();
         if state.is_some() && ack_at.is_none() {
@@ -282,9 +285,18 @@ async fn episode(
             }
             break "terminal_state";
         }
+        if !client.acknowledged() {
+            last_cmd = Instant::now();
+        }
         if !client.acknowledged() && last_send.elapsed() > Duration::from_millis(500) {
+            if sent_at.elapsed() > opts.timeout {
+                return Err(RosError::Timeout(format!("the stack did not take the goal of episode {} within {:.0} s (no status for it on move_base/status)", ep.episode_id, opts.timeout.as_secs_f64())));
+            }
             client.resend().await?;
             last_send = Instant::now();
+        }
+        if client.acknowledged() && last_cmd.elapsed() > opts.timeout {
+            return Err(RosError::Timeout(format!("no cmd_vel from the stack for {:.0} s during episode {} (is it still running?)", opts.timeout.as_secs_f64(), ep.episode_id)));
         }
         if t >= opts.episode_timeout {
             client.cancel().await?;
@@ -303,7 +315,10 @@ async fn episode(
                 let w = Instant::now();
                 if client.acknowledged() {
                     match sim.cmd_vel_within(grace).await {
-                        Some(c) => cmd = c,
+                        Some(c) => {
+                            cmd = c;
+                            last_cmd = Instant::now();
+                        }
                         None => missed += 1,
                     }
                 } else {
@@ -324,6 +339,7 @@ async fn episode(
                 wait_s += w.elapsed().as_secs_f64();
                 if let Some(super::sim_node::Command::Twist(c)) = sim.latest_command() {
                     cmd = c;
+                    last_cmd = Instant::now();
                 }
             }
         }

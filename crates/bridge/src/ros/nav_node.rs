@@ -220,6 +220,11 @@ async fn lockstep(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOp
         }
         let Some((_, b, start)) = brain.as_mut() else { unreachable!("set above") };
         let stamp = stamp_of(&s.stamp);
+        // What this mode does not read must not pile up in the channels.
+        inp.absorb_tf();
+        if !want_truth {
+            let _ = inp.truths.latest();
+        }
         let od = odoms.take(stamp, t_out, "odometry of this step").await?;
         let scan = match s.scan {
             true => Some(inp.scans.take(stamp, t_out, "scan of this step").await?),

@@ -118,26 +118,50 @@ impl SimNode {
     /// Registers the node `names` and its topics with the master at `uri`; scans are stamped
     /// with `laser_frame`.
     pub async fn new(uri: &str, names: Names, laser_frame: &str, timeout: Duration) -> Result<SimNode, RosError> {
+        let t0 = std::time::Instant::now();
         let node = RosNode::new(uri, names).await?;
+        tracing::debug!("sim: node registered in {:.3} s", t0.elapsed().as_secs_f64());
+        // Registrations are round trips to the master: made together, not one after another.
+        let n = &node;
+        let (clock, tf, tf_static, odom, truth, scan, map, amcl_map, initialpose) = tokio::try_join!(
+            n.advertise("/clock", false),
+            n.advertise("/tf", false),
+            n.advertise("/tf_static", true),
+            n.advertise("odom", false),
+            n.advertise("ground_truth/pose", false),
+            n.advertise("scan", false),
+            n.advertise("map", true),
+            n.advertise(AMCL_MAP_TOPIC, true),
+            n.advertise("initialpose", false),
+        )?;
+        let (depth, depth_info, rgb, rgb_info, episode, step) = tokio::try_join!(
+            n.advertise("camera/depth/image_raw", false),
+            n.advertise("camera/depth/camera_info", false),
+            n.advertise("camera/rgb/image_raw", false),
+            n.advertise("camera/rgb/camera_info", false),
+            n.advertise(EPISODE_TOPIC, true),
+            n.advertise(STEP_TOPIC, false),
+        )?;
+        let (replies, cmd_vel, action) = tokio::try_join!(n.subscribe(STEP_REPLY_TOPIC), n.subscribe("cmd_vel"), n.subscribe("action"))?;
         Ok(SimNode {
-            clock: node.advertise("/clock", false).await?,
-            tf: node.advertise("/tf", false).await?,
-            tf_static: node.advertise("/tf_static", true).await?,
-            odom: node.advertise("odom", false).await?,
-            truth: node.advertise("ground_truth/pose", false).await?,
-            scan: node.advertise("scan", false).await?,
-            map: node.advertise("map", true).await?,
-            amcl_map: node.advertise(AMCL_MAP_TOPIC, true).await?,
-            initialpose: node.advertise("initialpose", false).await?,
-            depth: node.advertise("camera/depth/image_raw", false).await?,
-            depth_info: node.advertise("camera/depth/camera_info", false).await?,
-            rgb: node.advertise("camera/rgb/image_raw", false).await?,
-            rgb_info: node.advertise("camera/rgb/camera_info", false).await?,
-            episode: node.advertise(EPISODE_TOPIC, true).await?,
-            step: node.advertise(STEP_TOPIC, false).await?,
-            replies: node.subscribe(STEP_REPLY_TOPIC).await?,
-            cmd_vel: node.subscribe("cmd_vel").await?,
-            action: node.subscribe("action").await?,
+            clock,
+            tf,
+            tf_static,
+            odom,
+            truth,
+            scan,
+            map,
+            amcl_map,
+            initialpose,
+            depth,
+            depth_info,
+            rgb,
+            rgb_info,
+            episode,
+            step,
+            replies,
+            cmd_vel,
+            action,
             node,
             laser_frame: laser_frame.to_string(),
             answered: false,
@@ -244,6 +268,9 @@ impl SimNode {
             loop {
                 match tokio::time::timeout_at(wait_until, self.replies.recv()).await {
                     Ok(Some(r)) if r.episode == episode && r.step == step => {
+                        if !self.answered {
+                            tracing::debug!("sim: first lock-step answer");
+                        }
                         self.answered = true;
                         return Ok(r);
                     }

@@ -54,7 +54,16 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         AgentArg::Oracle | AgentArg::Ros => None,
     };
     let cfg = RunConfig { agent, task, threads: a.threads.max(1), record_trajectories: a.trajectories.is_some(), physics, seed: a.seed, nav, sensors };
-    let ros = (a.ros || a.compare_ros).then(|| RosOptions { master: a.ros_master.clone(), timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)) });
+    // The master is infrastructure, started (when not given) before the run is timed, as the
+    // scene is loaded before the in-process run is.
+    let master = match (a.ros || a.compare_ros, &a.ros_master) {
+        (true, None) => Some(xhab_bridge::ros::master::Master::start().context("starting rosmaster for the run")?),
+        _ => None,
+    };
+    let ros = (a.ros || a.compare_ros).then(|| RosOptions {
+        master: a.ros_master.clone().or_else(|| master.as_ref().map(|m| m.uri.clone())),
+        timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)),
+    });
     if a.agent == AgentArg::Ros {
         if a.ros || a.compare_ros {
             anyhow::bail!("--agent ros already runs over ROS: drop --ros/--compare-ros");
