@@ -10,10 +10,13 @@ use xhab_types::Point2;
 /// How many fields a grid keeps (the newest).
 const CAPACITY: usize = 4;
 
+/// A field and its goals' exact coordinates (the bits of x and y).
+type Entry = (Vec<[u64; 2]>, Arc<GeodesicField>);
+
 /// The last few fields built on a grid, keyed by their goals' exact coordinates.
 #[derive(Debug, Default)]
 pub struct FieldCache {
-    recent: Mutex<VecDeque<(Vec<[u64; 2]>, Arc<GeodesicField>)>>,
+    recent: Mutex<VecDeque<Entry>>,
 }
 
 impl Clone for FieldCache {
