@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 use xhab_sim::action::Action;
-use xhab_sim::env::EnvView;
+use xhab_sim::env::{EnvView, Observation};
 use xhab_sim::oracle::ShortestPathFollower;
 use xhab_sim::sensors::CameraFrame;
 
@@ -11,6 +11,13 @@ use xhab_sim::sensors::CameraFrame;
 pub trait DiscreteAgent: Send {
     /// The next action, given the camera frame of this step (`--sensors`).
     fn act(&mut self, env: &dyn EnvView, frame: Option<&CameraFrame>) -> Action;
+    /// The next action, given also the task's observation of this step (GPS, compass, point
+    /// goal), as the in-process runner calls it. Agents that read only `env` keep this
+    /// default, which calls [`DiscreteAgent::act`].
+    fn act_observed(&mut self, env: &dyn EnvView, obs: &Observation, frame: Option<&CameraFrame>) -> Action {
+        let _ = obs;
+        self.act(env, frame)
+    }
     /// Called before each episode.
     fn reset(&mut self) {}
 }

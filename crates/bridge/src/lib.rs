@@ -1,13 +1,16 @@
 //! Wiring between agents and environments.
 //!
 //! [`agents`]: the agents `xhab bench --agent` can run; [`runner`]: in-process episode runs,
-//! sequential or parallel with identical results.
+//! sequential or parallel with identical results; [`setup`]: environments built from the
+//! options the CLI and the Python package share; [`report`]: the benchmark report.
 #![warn(missing_docs)]
 
 pub mod agents;
 pub mod explore;
 pub mod global_localization;
 pub mod nav_agent;
+pub mod report;
 pub mod runner;
 pub mod scan_source;
+pub mod setup;
 pub mod ros;

@@ -1,7 +1,8 @@
 //! Runs episodes in-process: an agent against the simulator, one episode per task, in
 //! parallel with results independent of the thread count.
 
-use crate::agents::AgentKind;
+use crate::agents::{AgentKind, DiscreteAgent};
+use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -168,15 +169,42 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         let goal = ep.goals[0].position.xy();
         return crate::nav_agent::run_nav(e, &grid, &world.scene, index, &ep.episode_id, goal, setup, cfg, t0);
     }
-    let Some(mut agent) = cfg.agent.build() else {
+    let Some(agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));
     };
+    drive_episode(made, &grid, ep, index, cfg, agent, &AtomicBool::new(false), t0).unwrap_or_else(|| invalid("cancelled".into()))
+}
+
+/// Runs one episode (number `index` in its dataset) with `agent`, a discrete agent of any
+/// kind (`cfg.agent` and `cfg.nav` are not used). Returns `None` when `cancel` was set
+/// before the episode ended (it is read before each action).
+pub fn run_episode_with(world: &World, ep: &Episode, index: usize, cfg: &RunConfig, agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool) -> Option<Outcome> {
+    let t0 = Instant::now();
+    let owned;
+    let cfg = if cfg.agent == AgentKind::Nav {
+        owned = RunConfig { agent: AgentKind::Oracle, nav: None, ..cfg.clone() };
+        &owned
+    } else {
+        cfg
+    };
+    match make_env(world, ep, index, cfg) {
+        Ok((made, grid)) => drive_episode(made, &grid, ep, index, cfg, agent, cancel, t0),
+        Err(reason) => Some(Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason })),
+    }
+}
+
+/// Steps a discrete agent through an episode until it is done (or `cancel` is set: `None`).
+fn drive_episode(mut made: MadeEnv, grid: &xhab_sim::navgrid::NavGrid, ep: &Episode, index: usize, cfg: &RunConfig, mut agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool, t0: Instant) -> Option<Outcome> {
+    let invalid = |reason: String| Some(Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }));
     agent.reset();
     let env = made.as_dyn();
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut stats = RenderStats::default();
     let mut step = 0u64;
     while !env.is_done() {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         let frame = match cfg.sensors.as_deref() {
             Some(rig) => match capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
                 Ok(f) => Some(f),
@@ -184,19 +212,23 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
             },
             None => None,
         };
-        let a = agent.act(env, frame.as_ref());
+        let obs = env.observe();
+        let a = agent.act_observed(env, &obs, frame.as_ref());
         env.step(a);
         step += 1;
         if let Some(t) = traj.as_mut() {
             t.push(env.pose());
         }
     }
+    if cancel.load(Ordering::Relaxed) {
+        return None;
+    }
     let (sim_s, stuck) = match &made {
         MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
         MadeEnv::Plain(_) => (None, None),
     };
     let env = made.as_dyn();
-    Outcome::Ran(EpisodeRun {
+    Some(Outcome::Ran(EpisodeRun {
         episode_id: ep.episode_id.clone(),
         metrics: env.metrics(),
         wall_s: t0.elapsed().as_secs_f64(),
@@ -206,7 +238,45 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         localization_error: None,
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
         ros: None,
-    })
+    }))
+}
+
+/// A run stopped by its cancel flag before every episode had run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("the run was cancelled")]
+pub struct Cancelled;
+
+/// Makes a fresh agent for episode `index`; called once per episode, from any worker thread.
+pub type AgentFactory<'a> = dyn Fn(usize) -> Box<dyn DiscreteAgent> + Sync + 'a;
+
+/// Runs every episode of `ds` with agents from `agents` (one per episode), as
+/// [`run_dataset`] does with the built-in agents: results in the dataset's order whatever the
+/// thread count. Setting `cancel` (e.g. from another thread on Ctrl-C) ends the run early
+/// with [`Cancelled`]; episodes not yet started are skipped.
+pub fn run_dataset_with(world: &World, ds: &Dataset, cfg: &RunConfig, agents: &AgentFactory<'_>, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
+    let run = |(i, ep): (usize, &Episode)| {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
+        let o = run_episode_with(world, ep, i, cfg, agents(i), cancel);
+        progress();
+        o
+    };
+    let outcomes: Vec<Option<Outcome>> = if cfg.threads <= 1 {
+        ds.episodes.iter().enumerate().map(run).collect()
+    } else {
+        for ep in &ds.episodes {
+            let _ = world.grid_at(ep.start_position.z);
+        }
+        match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
+            Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
+            Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
+        }
+    };
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Cancelled);
+    }
+    outcomes.into_iter().map(|o| o.ok_or(Cancelled)).collect()
 }
 
 /// Runs every episode of `ds`; results come back in the dataset's order whatever the thread

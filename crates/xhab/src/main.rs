@@ -5,7 +5,6 @@
 
 mod cli;
 mod cmd;
-mod output;
 mod report;
 mod scene_arg;
 

@@ -6,7 +6,7 @@ use xhab_bridge::ros::move_base_client::GoalInterface;
 use xhab_bridge::ros::names::Names;
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_nav::navigator::{params_from_yaml, NavParams};
-use crate::output::{episodes_csv, BenchReport, EpisodeReport, InvalidReport, SCHEMA_VERSION};
+use xhab_bridge::report::{episodes_csv, BenchReport, RosCheck};
 use crate::report::MapPicture;
 use crate::scene_arg::load_world;
 use anyhow::{Context, Result};
@@ -15,11 +15,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 use xhab_bridge::agents::AgentKind;
 use std::sync::Arc;
-use crate::output::RosCheck;
 use xhab_bridge::ros::bench::{run_dataset_ros, RosOptions};
-use xhab_bridge::runner::{aggregate, run_dataset, Aggregate, EpisodeRun, Outcome, PhysicsSetup, RunConfig};
-use xhab_sim::physics_env::PhysicsConfig;
-use xhab_sim::robot::{PhysicsScene, RobotProfile};
+use xhab_bridge::runner::{run_dataset, Aggregate, Outcome, PhysicsSetup, RunConfig};
+use xhab_bridge::setup::PhysicsOptions;
+use xhab_sim::robot::RobotProfile;
 use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RayScene, Renderer};
 use xhab_bridge::scan_source::ScanSource;
 use xhab_nav::depth_to_scan::DepthToScanParams;
@@ -131,20 +130,10 @@ fn run_renderer(a: &BenchArgs, world: &World) -> Result<Option<Arc<Renderer>>> {
 
 /// The camera of `--sensors` (None without it): which images, resolution, noise.
 fn sensor_rig(a: &BenchArgs, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<Option<Arc<CameraRig>>> {
-    let mut rgb = false;
-    for s in &a.sensors {
-        match s.as_str() {
-            "depth" => {}
-            "rgb" => rgb = true,
-            other => anyhow::bail!("--sensors: unknown sensor '{other}' (depth, rgb)"),
-        }
-    }
-    if !(a.depth_noise >= 0.0 && a.depth_noise.is_finite()) || !(0.0..=1.0).contains(&a.edge_dropout) {
-        anyhow::bail!("--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
-    }
+    let rgb = xhab_bridge::setup::parse_sensors(&a.sensors)?;
+    let noise = xhab_bridge::setup::depth_noise(a.depth_noise, a.edge_dropout)?;
     let Some(renderer) = renderer.filter(|_| !a.sensors.is_empty()) else { return Ok(None) };
     let params = super::render::camera(&a.camera, camera_height)?;
-    let noise = DepthNoise { sigma_at_1m: a.depth_noise, edge_threshold: 0.1, edge_dropout: a.edge_dropout };
     Ok(Some(Arc::new(CameraRig { renderer, params, rgb, noise })))
 }
 
@@ -204,16 +193,8 @@ pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSet
     if !o.physics {
         return Ok(None);
     }
-    let profile = RobotProfile::named_or_file(&o.robot).with_context(|| format!("--robot {}", o.robot))?;
-    let t = Instant::now();
-    let scene = PhysicsScene::new(&world.scene).context("building the physics world")?;
-    tracing::info!("physics mesh built in {:.3} s", t.elapsed().as_secs_f64());
-    let config = PhysicsConfig {
-        control_period: o.control_period,
-        physics: xhab_sim::robot::PhysicsParams { steps_per_sec: o.steps_per_sec, ..Default::default() },
-        ..Default::default()
-    };
-    Ok(Some(PhysicsSetup { scene: Arc::new(scene), profile, config }))
+    let options = PhysicsOptions { robot: o.robot.clone(), control_period: o.control_period, steps_per_sec: o.steps_per_sec };
+    Ok(Some(xhab_bridge::setup::physics_setup(world, &options)?))
 }
 
 /// Where a benchmark's agent runs.
@@ -281,48 +262,10 @@ pub fn bench(world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, epi
     };
     let wall = t0.elapsed().as_secs_f64();
     pb.finish_and_clear();
-    let mut runs: Vec<&EpisodeRun> = Vec::new();
-    let mut invalid = Vec::new();
-    for o in &outcomes {
-        match o {
-            Outcome::Ran(r) => runs.push(r),
-            Outcome::Invalid(i) => {
-                eprintln!("xhab: warning: episode {} is invalid and left out: {}", i.episode_id, i.reason);
-                invalid.push(i.clone());
-            }
-        }
+    let report = BenchReport::new(&outcomes, wall, cfg, cfg.agent.name(), scene, episodes_file, !matches!(transport, Transport::InProcess));
+    for i in &report.invalid.reasons {
+        eprintln!("xhab: warning: episode {} is invalid and left out: {}", i.episode_id, i.reason);
     }
-    let agg = aggregate(&runs, wall);
-    let report = BenchReport {
-        schema_version: SCHEMA_VERSION,
-        scene: scene.to_string(),
-        episodes_file: episodes_file.to_string(),
-        agent: cfg.agent.name().to_string(),
-        threads: cfg.threads,
-        task: cfg.task.clone(),
-        physics: cfg.physics.as_ref().map(|p| serde_json::json!({"robot": p.profile, "config": p.config, "seed": cfg.seed})),
-        camera: cfg.sensors.as_ref().map(|r| {
-            let images: Vec<&str> = if r.rgb { vec!["depth", "rgb"] } else { vec!["depth"] };
-            serde_json::json!({"sensors": images, "renderer": r.renderer.name(), "params": r.params, "noise": r.noise})
-        }),
-        nav: cfg.nav.as_ref().map(|n| {
-            serde_json::json!({
-                "localization": n.localization,
-                "scan_source": n.scan.as_ref().map(|s| s.name()),
-                "scan_height_m": n.scan.as_ref().map(|s| s.height()),
-                "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
-            })
-        }),
-        aggregate: agg,
-        invalid: InvalidReport {
-            count: invalid.len(),
-            episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(),
-            reasons: invalid,
-        },
-        episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
-        ros: !matches!(transport, Transport::InProcess),
-        ros_check: None,
-    };
     Ok((report, outcomes))
 }
 

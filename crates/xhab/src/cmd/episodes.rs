@@ -1,18 +1,15 @@
 //! `xhab episodes`: PointNav episodes generated with Habitat's rules.
 
 use crate::cli::EpisodesArgs;
-use crate::scene_arg::{floor_index, load_world};
+use crate::scene_arg::load_world;
 use anyhow::{Context, Result};
 use std::process::ExitCode;
-use xhab_sim::episode::{generate_episodes, write_dataset, GeneratorParams};
+use xhab_sim::episode::write_dataset;
 
 pub fn run(a: &EpisodesArgs) -> Result<ExitCode> {
     let world = load_world(&a.scene, &a.scene_opts)?;
-    let floor = floor_index(&world, &a.floor)?;
-    let grid = world.grid(floor)?;
     let scene_id = a.scene_id.clone().unwrap_or_else(|| a.scene.clone());
-    let ds = generate_episodes(&grid, &scene_id, a.count, a.seed, &GeneratorParams::default())
-        .with_context(|| format!("generating episodes in {}", a.scene))?;
+    let ds = xhab_bridge::setup::generate(&world, &a.scene, &a.floor, a.count, a.seed, &scene_id)?;
     super::ensure_parent(&a.out)?;
     write_dataset(&ds, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
     let mean = ds.episodes.iter().filter_map(|e| e.geodesic_distance).sum::<f64>() / ds.episodes.len().max(1) as f64;

@@ -5,40 +5,34 @@ use crate::scene_arg::load_scene;
 use anyhow::{bail, Context, Result};
 use image::{Rgb, RgbImage};
 use std::process::ExitCode;
+use xhab_bridge::setup::{self, CameraOptions};
 use xhab_sim::sensors::{CameraParams, Renderer, RendererKind};
 use xhab_types::Pose2;
 
+/// The library's camera options from the command line's.
+pub fn camera_options(o: &CameraOpts) -> CameraOptions {
+    CameraOptions {
+        renderer: match o.renderer {
+            RendererArg::Auto => None,
+            RendererArg::Raycast => Some(RendererKind::Raycast),
+            RendererArg::Raster => Some(RendererKind::Raster),
+            RendererArg::Wgpu => Some(RendererKind::Wgpu),
+        },
+        resolution: o.resolution,
+        hfov: o.hfov,
+        camera_height: o.camera_height,
+    }
+}
+
 /// Camera parameters from the options; `--camera-height` or else `default_height` (m).
 pub fn camera(o: &CameraOpts, default_height: f64) -> Result<CameraParams> {
-    if o.resolution == 0 || o.resolution > 4096 || !(o.hfov > 0.0 && o.hfov < 180.0) {
-        bail!("bad camera: --resolution must be in 1..=4096 and --hfov in (0, 180)");
-    }
-    let mount_height = o.camera_height.unwrap_or(default_height);
-    if !(mount_height.is_finite() && mount_height > 0.0) {
-        bail!("bad camera: --camera-height must be a positive number of metres");
-    }
-    Ok(CameraParams { width: o.resolution, height: o.resolution, hfov_deg: o.hfov, mount_height, ..Default::default() })
+    Ok(setup::camera_params(&camera_options(o), default_height)?)
 }
 
 /// The renderer `--renderer` asks for, built for `scene`; `auto` takes wgpu on a real GPU and
 /// the CPU rasteriser otherwise (with a warning when the GPU path failed). A line says which.
 pub fn renderer(o: &CameraOpts, scene: &xhab_sim::scene::Scene) -> Result<Renderer> {
-    let (r, why) = match o.renderer {
-        RendererArg::Auto => {
-            let (r, why) = Renderer::auto(scene)?;
-            (r, format!(" (auto: {why})"))
-        }
-        RendererArg::Raycast => (Renderer::new(RendererKind::Raycast, scene)?, String::new()),
-        RendererArg::Raster => (Renderer::new(RendererKind::Raster, scene)?, String::new()),
-        RendererArg::Wgpu => {
-            let r = Renderer::new(RendererKind::Wgpu, scene).map_err(|e| anyhow::anyhow!("--renderer wgpu: {e}"))?;
-            let info = match &r {
-                Renderer::Wgpu(g) => format!(" ({})", g.adapter_info()),
-                _ => String::new(),
-            };
-            (r, info)
-        }
-    };
+    let (r, why) = setup::build_renderer(camera_options(o).renderer, scene)?;
     if why.contains("no GPU renderer") {
         tracing::warn!("renderer: {}{why}", r.name());
     }

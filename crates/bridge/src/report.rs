@@ -1,7 +1,9 @@
-//! JSON documents the CLI writes. Field names are a contract: add fields, never rename.
+//! The benchmark report: the document `xhab bench --out` writes and `xhab.evaluate` returns.
+//! Field names are a contract: add fields, never rename.
 
+use crate::nav_agent::Localization;
+use crate::runner::{aggregate, Aggregate, EpisodeRun, InvalidRun, Outcome, RunConfig};
 use serde::Serialize;
-use xhab_bridge::runner::{Aggregate, EpisodeRun, InvalidRun};
 use xhab_sim::env::TaskConfig;
 
 /// Version of the bench JSON layout.
@@ -44,6 +46,53 @@ pub struct BenchReport {
     /// How the ROS run compares with the in-process run (`--compare-ros` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ros_check: Option<RosCheck>,
+}
+
+impl BenchReport {
+    /// The report of a run: `outcomes` in dataset order, `wall_s` the run's elapsed time (s),
+    /// `agent` the agent's name, `scene` and `episodes_file` as given, `ros` whether it ran
+    /// over ROS. Invalid episodes are listed in `invalid`, in dataset order.
+    pub fn new(outcomes: &[Outcome], wall_s: f64, cfg: &RunConfig, agent: &str, scene: &str, episodes_file: &str, ros: bool) -> BenchReport {
+        let mut runs: Vec<&EpisodeRun> = Vec::new();
+        let mut invalid = Vec::new();
+        for o in outcomes {
+            match o {
+                Outcome::Ran(r) => runs.push(r),
+                Outcome::Invalid(i) => invalid.push(i.clone()),
+            }
+        }
+        BenchReport {
+            schema_version: SCHEMA_VERSION,
+            scene: scene.to_string(),
+            episodes_file: episodes_file.to_string(),
+            agent: agent.to_string(),
+            threads: cfg.threads,
+            task: cfg.task.clone(),
+            physics: cfg.physics.as_ref().map(|p| serde_json::json!({"robot": p.profile, "config": p.config, "seed": cfg.seed})),
+            camera: cfg.sensors.as_ref().map(|r| {
+                let images: Vec<&str> = if r.rgb { vec!["depth", "rgb"] } else { vec!["depth"] };
+                serde_json::json!({"sensors": images, "renderer": r.renderer.name(), "params": r.params, "noise": r.noise})
+            }),
+            nav: cfg.nav.as_ref().map(|n| {
+                serde_json::json!({
+                    "localization": n.localization,
+                    "scan_source": n.scan.as_ref().map(|s| s.name()),
+                    "scan_height_m": n.scan.as_ref().map(|s| s.height()),
+                    "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
+                })
+            }),
+            aggregate: aggregate(&runs, wall_s),
+            invalid: InvalidReport { count: invalid.len(), episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(), reasons: invalid },
+            episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
+            ros,
+            ros_check: None,
+        }
+    }
+
+    /// The report as `xhab bench --out` writes it: pretty-printed JSON and a newline.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        Ok(serde_json::to_string_pretty(self)? + "\n")
+    }
 }
 
 /// Agreement of a run over ROS with the same run in-process.
