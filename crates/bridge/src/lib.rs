@@ -2,12 +2,14 @@
 //!
 //! [`agents`]: the agents `xhab bench --agent` can run; [`runner`]: in-process episode runs,
 //! sequential or parallel with identical results; [`setup`]: environments built from the
-//! options the CLI and the Python package share; [`report`]: the benchmark report.
+//! options the CLI and the Python package share; [`report`]: the benchmark report;
+//! [`gym`]: a Gymnasium-style PointNav environment (reset, step, reward), single or batched.
 #![warn(missing_docs)]
 
 pub mod agents;
 pub mod explore;
 pub mod global_localization;
+pub mod gym;
 pub mod nav_agent;
 pub mod report;
 pub mod runner;
