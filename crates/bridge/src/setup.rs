@@ -11,14 +11,16 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 use xhab_sim::env::TaskConfig;
-use xhab_sim::episode::{generate_episodes, Dataset, GenerateError, GeneratorParams};
-use xhab_sim::navgrid::{AgentParams, NavGridError};
+use xhab_sim::episode::{generate_episodes, read_dataset, Dataset, DatasetError, GenerateError, GeneratorParams};
+use xhab_sim::navgrid::{AgentParams, NavGrid, NavGridError};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsError, PhysicsScene, ProfileError, RobotProfile};
 use xhab_sim::scene::{self, LoadOptions, Scene, SceneError, UpAxis};
 use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RenderError, Renderer, RendererKind};
 use xhab_sim::world::World;
-use xhab_types::Point3;
+use xhab_types::{OccupancyGrid, Point3};
+
+pub use xhab_nav::map_server::save_map;
 
 /// Why an environment could not be set up. Each message names the argument as the CLI
 /// spells it; the sources carry the details (print the chain, as `{:#}` does with anyhow).
@@ -65,6 +67,23 @@ pub enum SetupError {
         /// Why.
         #[source]
         source: GenerateError,
+    },
+    /// The episodes file could not be read.
+    #[error("reading episodes {path}")]
+    Episodes {
+        /// The file.
+        path: String,
+        /// Why.
+        #[source]
+        source: DatasetError,
+    },
+    /// A laser height outside the agent's body band.
+    #[error("--laser-height {height}: must lie above the floor and below the agent height ({agent_height} m)")]
+    BadLaserHeight {
+        /// The height asked for (m).
+        height: f64,
+        /// The agent's height (m).
+        agent_height: f64,
     },
     /// The robot profile could not be loaded.
     #[error("--robot {name}")]
@@ -183,6 +202,21 @@ pub fn generate(world: &World, scene: &str, floor: &str, count: usize, seed: u64
     let i = floor_index(world, floor)?;
     let grid = world.grid(i)?;
     generate_episodes(&grid, scene_id, count, seed, &GeneratorParams::default()).map_err(|source| SetupError::Generate { scene: scene.to_string(), source })
+}
+
+/// Reads a Habitat PointNav episodes file (`.json.gz` or `.json`).
+pub fn read_episodes(path: &Path) -> Result<Dataset, SetupError> {
+    read_dataset(path).map_err(|source| SetupError::Episodes { path: path.display().to_string(), source })
+}
+
+/// The map of a floor's grid as `xhab map` makes it: what the agent's body band hits, or with
+/// `laser_height` (m above the floor) what a planar laser at that height sees.
+pub fn floor_map(world: &World, grid: &NavGrid, laser_height: Option<f64>) -> Result<OccupancyGrid, SetupError> {
+    Ok(match laser_height {
+        Some(h) if !(h.is_finite() && h > 0.0 && h < grid.params.height) => return Err(SetupError::BadLaserHeight { height: h, agent_height: grid.params.height }),
+        Some(h) => grid.slice_map(&world.scene, h, crate::nav_agent::SCAN_PLANE_HALF_BAND),
+        None => grid.occupancy_grid(),
+    })
 }
 
 /// A geodesic distance query between two points and what decided it.

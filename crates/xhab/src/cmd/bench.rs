@@ -23,7 +23,7 @@ use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RayScene, Renderer}
 use xhab_bridge::scan_source::ScanSource;
 use xhab_nav::depth_to_scan::DepthToScanParams;
 use xhab_sim::env::TaskConfig;
-use xhab_sim::episode::{read_dataset, Dataset};
+use xhab_sim::episode::Dataset;
 use xhab_sim::world::World;
 use xhab_types::Point2;
 
@@ -37,7 +37,7 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         opts.agent_radius = Some(RobotProfile::named_or_file(&a.physics.robot).with_context(|| format!("--robot {}", a.physics.robot))?.radius);
     }
     let world = load_world(&a.scene, &opts)?;
-    let ds = read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
+    let ds = xhab_bridge::setup::read_episodes(&a.episodes)?;
     let agent = match a.agent {
         AgentArg::Oracle => AgentKind::Oracle,
         AgentArg::Nav => AgentKind::Nav,

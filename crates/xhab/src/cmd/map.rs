@@ -31,13 +31,7 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
     if let Some(profile) = profile {
         return explore(a, &world, &grid, profile, t0);
     }
-    let map = match a.laser_height {
-        Some(h) if !(h.is_finite() && h > 0.0 && h < grid.params.height) => {
-            anyhow::bail!("--laser-height {h}: must lie above the floor and below the agent height ({} m)", grid.params.height)
-        }
-        Some(h) => grid.slice_map(&world.scene, h, xhab_bridge::nav_agent::SCAN_PLANE_HALF_BAND),
-        None => grid.occupancy_grid(),
-    };
+    let map = xhab_bridge::setup::floor_map(&world, &grid, a.laser_height)?;
     let (yaml, png) = write_map(&map, &a.out)?;
     let (free, occ) = counts(&map);
     eprintln!(

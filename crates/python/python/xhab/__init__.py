@@ -1,0 +1,85 @@
+"""xhab: fast, deterministic Habitat-style PointNav in Python.
+
+- ``PointNavEnv``: a ``gymnasium.Env`` with habitat-lab's observations (``depth``, ``rgb``,
+  ``pointgoal_with_gps_compass``, ``gps``, ``compass``), actions (0 stop, 1 move_forward,
+  2 turn_left, 3 turn_right), reward and metrics; ``physics=True`` runs each action as
+  Algorithm 1 under rapier3d, and ``step_twist(v, w, duration)`` drives with velocities.
+- ``VectorPointNavEnv``: n environments stepped in parallel in Rust (``gymnasium.vector``
+  conventions, next-step autoreset).
+- ``evaluate(agent, scene, episodes)``: any Python agent on every episode, with the same
+  report as ``xhab bench --out``; ``bench`` runs the built-in oracle.
+- ``geodesic_distance``, ``generate_episodes``, ``make_map``: the CLI's other jobs.
+
+Scenes are ``.glb``/``.gltf``/``.obj``/``.ply`` files or ``procedural[:SEED]``. Points are in
+Habitat's frame ``[x, y, z]`` with y up (metres).
+"""
+
+import json as _json
+import os as _os
+
+from . import _xhab
+from ._xhab import EpisodeView, ShortestPathFollower
+from .env import PointNavEnv, VectorPointNavEnv, options as _options
+
+__all__ = [
+    "PointNavEnv",
+    "VectorPointNavEnv",
+    "evaluate",
+    "bench",
+    "geodesic_distance",
+    "generate_episodes",
+    "make_map",
+    "ShortestPathFollower",
+    "EpisodeView",
+]
+
+
+def evaluate(agent, scene, episodes, *, physics=False, robot="habitat", sensors=(), resolution=256, hfov=90,
+             threads=1, seed=0, privileged=False, agent_name=None, **kwargs):
+    """Runs ``agent`` on every episode of the ``episodes`` file and returns the report that
+    ``xhab bench --out`` writes (a dict with the same fields: ``aggregate``, ``episodes``,
+    ``invalid``, ...).
+
+    ``agent`` is a callable ``act(obs) -> action`` or an object with ``act(obs)`` and,
+    optionally, ``reset()`` (called before each episode). ``obs`` holds the observations that
+    ``PointNavEnv`` gives. With ``privileged=True``, ``act(obs, view)`` also receives an
+    ``EpisodeView`` (ground-truth pose, geodesic distances) for oracles, e.g. with
+    ``ShortestPathFollower().act(view)``. With ``threads > 1`` episodes run in parallel,
+    each with its own ``copy.deepcopy`` of the agent; results do not depend on it.
+    Other keywords are ``PointNavEnv``'s (``max_steps``, ``success_distance``, ``renderer``,
+    ``control_period``, ...). Ctrl-C stops the run with ``KeyboardInterrupt``.
+    """
+    opts = _options(physics=physics, robot=robot, sensors=sensors, resolution=resolution, hfov=hfov, **kwargs)
+    name = agent_name or getattr(agent, "name", None) or type(agent).__name__
+    report = _xhab.evaluate(agent, str(scene), _os.fspath(episodes), int(threads), int(seed), bool(privileged), str(name), opts)
+    return _json.loads(report)
+
+
+def bench(scene, episodes, *, agent="oracle", physics=False, robot="habitat", sensors=(), threads=1, seed=0, **kwargs):
+    """``xhab bench`` with a built-in agent (``oracle``): returns the report as a dict."""
+    opts = _options(physics=physics, robot=robot, sensors=sensors, **kwargs)
+    return _json.loads(_xhab.bench(str(scene), _os.fspath(episodes), str(agent), int(threads), int(seed), opts))
+
+
+def geodesic_distance(scene, a, b, **kwargs):
+    """Geodesic distance (m) of the disc agent between Habitat-frame points ``a`` and ``b``
+    (``[x, y, z]``, y up); ``inf`` across islands or floors or where either is not navigable.
+    Loads the scene each call: inside an environment use ``env.geodesic_distance``."""
+    return _xhab.geodesic_distance(str(scene), [float(v) for v in a], [float(v) for v in b], _options(**kwargs))
+
+
+def generate_episodes(scene, count, seed=0, out=None, *, floor="auto", scene_id=None, **kwargs):
+    """PointNav episodes generated with Habitat's rules (byte-identical for a seed); written
+    to ``out`` (``.json.gz`` or ``.json``) when given. Returns the dataset in Habitat's JSON
+    layout (``{"episodes": [...]}``)."""
+    text = _xhab.generate_episodes(str(scene), int(count), int(seed), None if out is None else _os.fspath(out),
+                                   str(floor), scene_id, _options(**kwargs))
+    return _json.loads(text)
+
+
+def make_map(scene, out, *, resolution=0.05, floor="auto", laser_height=None, **kwargs):
+    """Writes the ROS map_server map ``OUT.yaml`` + ``OUT.pgm`` of a floor, as ``xhab map``
+    does (without its PNG picture). Returns ``{"yaml", "width", "height", "resolution"}``."""
+    yaml, w, h, r = _xhab.make_map(str(scene), _os.fspath(out), float(resolution), str(floor),
+                                   None if laser_height is None else float(laser_height), _options(**kwargs))
+    return {"yaml": yaml, "width": w, "height": h, "resolution": r}
