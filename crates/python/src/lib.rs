@@ -493,6 +493,8 @@ impl DiscreteAgent for PyAgent {
             return Action::Stop;
         }
         let r = Python::attach(|py| -> PyResult<Action> {
+            // Runs the signal handlers when on the main thread (sequential evaluations).
+            py.check_signals()?;
             let o = obs_dict(py, &GymObservation::new(obs, None), frame)?;
             let act = self.act.bind(py);
             let a = if self.privileged { act.call1((o, EpisodeView(EnvSnapshot::of(env))))? } else { act.call1((o,))? };
@@ -513,36 +515,44 @@ impl DiscreteAgent for PyAgent {
     }
 }
 
-/// Runs `ds` with agents from `make` (one per episode) in a worker thread while this thread
-/// waits without the GIL, checking for Ctrl-C; returns the report's JSON.
+/// Runs `ds` with agents from `make` (one per episode) without the GIL, checking for Ctrl-C,
+/// and returns the report's JSON. `inline`: on this thread, for Python agents that run
+/// sequentially (they check for Ctrl-C themselves); otherwise in a worker thread.
 #[allow(clippy::too_many_arguments)]
-fn run_report(py: Python<'_>, s: &EnvSetup, ds: &Dataset, threads: usize, seed: u64, agent_name: &str, episodes_file: &str, shared: &Arc<Shared>, make: &(dyn Fn(usize) -> Box<dyn DiscreteAgent> + Sync)) -> PyResult<String> {
+fn run_report(py: Python<'_>, s: &EnvSetup, ds: &Dataset, threads: usize, seed: u64, agent_name: &str, episodes_file: &str, shared: &Arc<Shared>, make: &(dyn Fn(usize) -> Box<dyn DiscreteAgent> + Sync), inline: bool) -> PyResult<String> {
     let cfg = s.run_config(AgentKind::Oracle, threads, seed);
-    let (tx, mut rx) = std::sync::mpsc::channel();
     let t0 = Instant::now();
-    let result = std::thread::scope(|scope| {
-        let (world, cfg, cancel) = (&s.world, &cfg, &shared.cancel);
-        scope.spawn(move || {
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_dataset_with(world, ds, cfg, make, cancel, &|| {})));
-            let _ = tx.send(r);
-        });
-        loop {
-            let (back, r) = py.detach(move || {
-                let r = rx.recv_timeout(Duration::from_millis(50));
-                (rx, r)
+    let (world, cfg_ref, cancel) = (&s.world, &cfg, &shared.cancel);
+    let run = move || std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_dataset_with(world, ds, cfg_ref, make, cancel, &|| {})));
+    let result = if inline {
+        // On this thread: a Python agent's calls check for Ctrl-C at every step.
+        Some(py.detach(run))
+    } else {
+        // In a worker thread, while this one (the main thread, where Python runs signal
+        // handlers) waits without the GIL and checks for Ctrl-C every 50 ms.
+        let (tx, mut rx) = std::sync::mpsc::channel();
+        std::thread::scope(|scope| {
+            scope.spawn(move || {
+                let _ = tx.send(run());
             });
-            rx = back;
-            match r {
-                Ok(r) => break Some(r),
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
-                    if let Err(e) = py.check_signals() {
-                        shared.fail(e);
+            loop {
+                let (back, r) = py.detach(move || {
+                    let r = rx.recv_timeout(Duration::from_millis(50));
+                    (rx, r)
+                });
+                rx = back;
+                match r {
+                    Ok(r) => break Some(r),
+                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                        if let Err(e) = py.check_signals() {
+                            shared.fail(e);
+                        }
                     }
+                    Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break None,
                 }
-                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break None,
             }
-        }
-    });
+        })
+    };
     let wall = t0.elapsed().as_secs_f64();
     if let Some(e) = shared.error.lock().ok().and_then(|mut g| g.take()) {
         return Err(e);
@@ -582,7 +592,7 @@ fn evaluate(py: Python<'_>, agent: Bound<'_, PyAny>, scene: &str, episodes: Path
         };
         Box::new(PyAgent { act, reset, privileged, shared: shared.clone() })
     };
-    run_report(py, &s, &ds, threads, seed, agent_name, &episodes.display().to_string(), &shared, &make)
+    run_report(py, &s, &ds, threads, seed, agent_name, &episodes.display().to_string(), &shared, &make, threads <= 1)
 }
 
 /// Benchmarks a built-in agent (`oracle`) as `xhab bench` does; returns the report's JSON.
@@ -598,7 +608,7 @@ fn bench_builtin(py: Python<'_>, scene: &str, episodes: PathBuf, agent: &str, th
     let ds = py.detach(|| setup::read_episodes(&episodes)).map_err(|e| py_err(&e))?;
     let shared = Arc::new(Shared::default());
     let make = |_: usize| kind.build().unwrap_or_else(|| Box::new(Stopper));
-    run_report(py, &s, &ds, threads, seed, kind.name(), &episodes.display().to_string(), &shared, &make)
+    run_report(py, &s, &ds, threads, seed, kind.name(), &episodes.display().to_string(), &shared, &make, false)
 }
 
 /// An agent that stops at once (never used: only the oracle is offered).

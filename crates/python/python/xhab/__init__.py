@@ -19,7 +19,7 @@ import os as _os
 
 from . import _xhab
 from ._xhab import EpisodeView, ShortestPathFollower
-from .env import PointNavEnv, VectorPointNavEnv, options as _options
+from .env import AgentAdapter as _AgentAdapter, PointNavEnv, VectorPointNavEnv, options as _options
 
 __all__ = [
     "PointNavEnv",
@@ -50,8 +50,10 @@ def evaluate(agent, scene, episodes, *, physics=False, robot="habitat", sensors=
     ``control_period``, ...). Ctrl-C stops the run with ``KeyboardInterrupt``.
     """
     opts = _options(physics=physics, robot=robot, sensors=sensors, resolution=resolution, hfov=hfov, **kwargs)
-    name = agent_name or getattr(agent, "name", None) or type(agent).__name__
-    report = _xhab.evaluate(agent, str(scene), _os.fspath(episodes), int(threads), int(seed), bool(privileged), str(name), opts)
+    name = agent_name or getattr(agent, "name", None) or getattr(agent, "__name__", None) or type(agent).__name__
+    shape = (int(resolution), int(resolution), "rgb" in opts["sensors"]) if opts["sensors"] else None
+    adapter = _AgentAdapter(agent, shape, opts["sensors"], bool(privileged))
+    report = _xhab.evaluate(adapter, str(scene), _os.fspath(episodes), int(threads), int(seed), bool(privileged), str(name), opts)
     return _json.loads(report)
 
 

@@ -38,6 +38,42 @@ def _seed(seed):
     return None if seed is None else int(seed) & _SEED_MASK
 
 
+def observation(raw, shape, sensors):
+    """One observation as numpy arrays over the Rust core's buffers (no copy)."""
+    o = {}
+    if shape is not None:
+        h, w, _ = shape
+        if "depth" in sensors:
+            o["depth"] = np.frombuffer(raw["depth"], np.float32).reshape(h, w, 1)
+        if "rgb" in sensors:
+            o["rgb"] = np.frombuffer(raw["rgb"], np.uint8).reshape(h, w, 3)
+    o["pointgoal_with_gps_compass"] = np.array(raw["pointgoal_with_gps_compass"], np.float32)
+    o["gps"] = np.array(raw["gps"], np.float32)
+    o["compass"] = np.array([raw["compass"]], np.float32)
+    return o
+
+
+class AgentAdapter:
+    """Gives a user's agent (a callable, or an object with ``act`` and optionally ``reset``)
+    the observations ``PointNavEnv`` gives; ``xhab.evaluate`` runs it (and deep-copies it per
+    episode when episodes run in parallel)."""
+
+    def __init__(self, agent, shape, sensors, privileged):
+        if not (callable(getattr(agent, "act", None)) or callable(agent)):
+            raise TypeError("agent: expected a callable act(obs) -> action, or an object with act(obs)")
+        self.agent, self.shape, self.sensors, self.privileged = agent, shape, set(sensors), privileged
+
+    def act(self, raw, view=None):
+        act = getattr(self.agent, "act", None) or self.agent
+        obs = observation(raw, self.shape, self.sensors)
+        return act(obs, view) if self.privileged else act(obs)
+
+    def reset(self):
+        reset = getattr(self.agent, "reset", None)
+        if callable(reset):
+            reset()
+
+
 def _observation_space(sensors, shape, max_depth, noisy):
     d = {}
     if shape is not None:
@@ -100,17 +136,7 @@ class PointNavEnv(gym.Env):
         self.render_mode = None
 
     def _obs(self, raw):
-        o = {}
-        if self._shape is not None:
-            h, w, _ = self._shape
-            if "depth" in self._sensors:
-                o["depth"] = np.frombuffer(raw["depth"], np.float32).reshape(h, w, 1)
-            if "rgb" in self._sensors:
-                o["rgb"] = np.frombuffer(raw["rgb"], np.uint8).reshape(h, w, 3)
-        o["pointgoal_with_gps_compass"] = np.array(raw["pointgoal_with_gps_compass"], np.float32)
-        o["gps"] = np.array(raw["gps"], np.float32)
-        o["compass"] = np.array([raw["compass"]], np.float32)
-        return o
+        return observation(raw, self._shape, self._sensors)
 
     def reset(self, *, seed=None, options=None):
         """Starts the next episode, or ``options["episode_id"]``; ``seed`` re-seeds the
