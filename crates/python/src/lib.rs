@@ -310,14 +310,14 @@ impl Core {
         Ok((obs_dict(py, &r.obs, r.obs.frame.as_ref())?, info_dict(py, &r.info)?))
     }
 
-    fn step<'py>(&mut self, py: Python<'py>, action: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>)> {
+    fn step<'py>(&mut self, py: Python<'py>, action: &Bound<'py, PyAny>) -> PyResult<StepTuple<'py>> {
         let a = self::action(action)?;
         let env = &mut self.env;
         let r = py.detach(|| env.step(a)).map_err(gym_err)?;
         step_tuple(py, &r)
     }
 
-    fn step_twist<'py>(&mut self, py: Python<'py>, linear: f64, angular: f64, duration: f64) -> PyResult<(Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>)> {
+    fn step_twist<'py>(&mut self, py: Python<'py>, linear: f64, angular: f64, duration: f64) -> PyResult<StepTuple<'py>> {
         let env = &mut self.env;
         let r = py.detach(|| env.step_twist(linear, angular, duration)).map_err(gym_err)?;
         step_tuple(py, &r)
@@ -337,7 +337,10 @@ impl Core {
     }
 }
 
-fn step_tuple<'py>(py: Python<'py>, r: &GymStep) -> PyResult<(Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>)> {
+/// What `step` returns: observation, reward, terminated, truncated, info.
+type StepTuple<'py> = (Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>);
+
+fn step_tuple<'py>(py: Python<'py>, r: &GymStep) -> PyResult<StepTuple<'py>> {
     Ok((obs_dict(py, &r.obs, r.obs.frame.as_ref())?, r.reward, r.terminated, r.truncated, info_dict(py, &r.info)?))
 }
 
