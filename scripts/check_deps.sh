@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Dependency direction (DESIGN.md section 2): xhab -> bridge -> {sim, nav} -> types;
-# sim and nav never depend on each other; only bridge may know ROS.
+# sim and nav never depend on each other; only bridge may know ROS; only the Python package
+# (crates/python -> bridge) knows Python.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fail=0
@@ -16,8 +17,10 @@ check() { # crate forbidden...
     if grep -qx "$f" <<<"$d"; then echo "dependency direction: $c depends on $f" >&2; fail=1; fi
   done
 }
-check xhab-types xhab-sim xhab-nav xhab-bridge roslibrust
-check xhab-sim xhab-nav xhab-bridge roslibrust
-check xhab-nav xhab-sim xhab-bridge roslibrust
+check xhab-types xhab-sim xhab-nav xhab-bridge roslibrust pyo3
+check xhab-sim xhab-nav xhab-bridge roslibrust pyo3
+check xhab-nav xhab-sim xhab-bridge roslibrust pyo3
+check xhab-bridge xhab-python pyo3
+check xhab xhab-python pyo3
 if [ $fail = 0 ]; then echo "dependency direction: ok"; fi
 exit $fail
