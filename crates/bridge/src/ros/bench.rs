@@ -55,7 +55,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
         (kind, _) => {
             let (uri, world, task, timeout) = (uri.to_string(), world.clone(), cfg.task.clone(), opts.timeout);
-            tokio::spawn(async move { super::agent_node::run(&uri, Names::plain("xhab_agent"), world, kind, task, timeout, stop_rx).await })
+            tokio::spawn(async move { super::agent_node::run(&uri, Names::plain("xhab_agent"), world, kind, task, timeout, true, stop_rx).await })
         }
     };
     let t_start = Instant::now();

@@ -147,7 +147,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             rt.block_on(async {
                 let (_tx, rx) = tokio::sync::watch::channel(false);
                 tokio::select! {
-                    r = xhab_bridge::ros::agent_node::run(&master.uri, name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, rx) => r,
+                    r = xhab_bridge::ros::agent_node::run(&master.uri, name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, false, rx) => r,
                     _ = tokio::signal::ctrl_c() => Ok(()),
                 }
             })?;
