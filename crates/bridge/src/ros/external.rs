@@ -101,8 +101,10 @@ struct Launched(Child);
 
 impl Drop for Launched {
     fn drop(&mut self) {
-        let pgid = self.0.id().to_string();
-        let _ = Command::new("kill").args(["-TERM", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        // `--` before the negative id: procps-ng's kill reads `-TERM -1234` as signal TERM
+        // to process group -1 (its first digit), i.e. to every process it may signal.
+        let group = format!("-{}", self.0.id());
+        let _ = Command::new("kill").args(["-s", "TERM", "--", &group]).stderr(Stdio::null()).status();
         let t = Instant::now();
         while t.elapsed() < Duration::from_secs(3) {
             if let Ok(Some(_)) = self.0.try_wait() {
@@ -110,7 +112,7 @@ impl Drop for Launched {
             }
             std::thread::sleep(Duration::from_millis(50));
         }
-        let _ = Command::new("kill").args(["-KILL", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        let _ = Command::new("kill").args(["-s", "KILL", "--", &group]).stderr(Stdio::null()).status();
         let _ = self.0.wait();
     }
 }
