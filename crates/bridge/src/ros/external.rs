@@ -339,11 +339,28 @@ async fn episode(
             tr.push(env.pose());
         }
     };
+    let end_t = stamp(env.sim_s());
+    if client.acknowledged() && !client.state.is_some_and(status::is_terminal) {
+        // The goal was cancelled: the stack reports it PREEMPTED once its clock moves on (a
+        // rospy.Rate, a sim-time timer). Tick the clock through the second between episodes,
+        // the robot standing still, until it does (at most 50 ms of wall time a tick).
+        for k in 1..(1.0 / tick).floor() as u32 {
+            clock.t = episode_time(end_t + k as f64 * tick);
+            sim.publish_clock(clock.t).await?;
+            let deadline = Instant::now() + Duration::from_millis(50);
+            while !client.absorb().is_some_and(status::is_terminal) && Instant::now() < deadline {
+                tokio::time::sleep(Duration::from_millis(2)).await;
+            }
+            if client.state.is_some_and(status::is_terminal) {
+                break;
+            }
+        }
+    }
     let ros_status = client.state.map_or("NONE", status::name).to_string();
     client.clear();
     // The robot stands still for a tick while the next episode is set up.
     let _ = sim.cmd_vel_within(Duration::from_millis(1)).await;
-    clock.t = stamp(env.sim_s());
+    clock.t = end_t;
     clock.advance(sim, 1.0).await?;
     Ok(EpisodeRun {
         episode_id: ep.episode_id.clone(),
