@@ -101,8 +101,10 @@ struct Launched(Child);
 
 impl Drop for Launched {
     fn drop(&mut self) {
-        let pgid = self.0.id().to_string();
-        let _ = Command::new("kill").args(["-TERM", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        // `--` before the negative id: procps-ng's kill reads `-TERM -1234` as signal TERM
+        // to process group -1 (its first digit), i.e. to every process it may signal.
+        let group = format!("-{}", self.0.id());
+        let _ = Command::new("kill").args(["-s", "TERM", "--", &group]).stderr(Stdio::null()).status();
         let t = Instant::now();
         while t.elapsed() < Duration::from_secs(3) {
             if let Ok(Some(_)) = self.0.try_wait() {
@@ -110,7 +112,7 @@ impl Drop for Launched {
             }
             std::thread::sleep(Duration::from_millis(50));
         }
-        let _ = Command::new("kill").args(["-KILL", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        let _ = Command::new("kill").args(["-s", "KILL", "--", &group]).stderr(Stdio::null()).status();
         let _ = self.0.wait();
     }
 }
@@ -353,11 +355,28 @@ async fn episode(
             tr.push(env.pose());
         }
     };
+    let end_t = stamp(env.sim_s());
+    if client.acknowledged() && !client.state.is_some_and(status::is_terminal) {
+        // The goal was cancelled: the stack reports it PREEMPTED once its clock moves on (a
+        // rospy.Rate, a sim-time timer). Tick the clock through the second between episodes,
+        // the robot standing still, until it does (at most 50 ms of wall time a tick).
+        for k in 1..(1.0 / tick).floor() as u32 {
+            clock.t = episode_time(end_t + k as f64 * tick);
+            sim.publish_clock(clock.t).await?;
+            let deadline = Instant::now() + Duration::from_millis(50);
+            while !client.absorb().is_some_and(status::is_terminal) && Instant::now() < deadline {
+                tokio::time::sleep(Duration::from_millis(2)).await;
+            }
+            if client.state.is_some_and(status::is_terminal) {
+                break;
+            }
+        }
+    }
     let ros_status = client.state.map_or("NONE", status::name).to_string();
     client.clear();
     // The robot stands still for a tick while the next episode is set up.
     let _ = sim.cmd_vel_within(Duration::from_millis(1)).await;
-    clock.t = stamp(env.sim_s());
+    clock.t = end_t;
     clock.advance(sim, 1.0).await?;
     Ok(EpisodeRun {
         episode_id: ep.episode_id.clone(),
