@@ -415,13 +415,13 @@ impl<'a> Loader<'a> {
         let mut chosen: Option<&Source> = None;
         for s in &lay.sources {
             let keys: Vec<String> = s.prefixes.iter().map(|pre| format!("{cm}/{pre}/data_type")).collect();
-            match self.first(&keys) {
-                Some((key, leaf)) => match as_str(&leaf.value).map_err(|m| self.err(key, leaf, m))? {
+            // No data_type is PointCloud, costmap_2d's default.
+            if let Some((key, leaf)) = self.first(&keys) {
+                match as_str(&leaf.value).map_err(|m| self.err(key, leaf, m))? {
                     "LaserScan" => chosen = chosen.or(Some(s)),
                     "PointCloud" | "PointCloud2" => {}
                     other => return Err(self.err(key, leaf, format!("must be LaserScan, PointCloud or PointCloud2, got {other:?}"))),
-                },
-                None => {} // PointCloud, costmap_2d's default.
+                }
             }
         }
         if chosen.is_none() && !lay.sources.is_empty() {

@@ -270,6 +270,8 @@ const TRAJECTORY_PLANNER: &[ParamSpec] = &[
     p("acc_lim_x", F0, "2.5", U),
     p("acc_lim_y", F0, "2.5", I),
     p("acc_lim_theta", F0, "3.2", U),
+    // rotate_recovery reads this one from TrajectoryPlannerROS's namespace.
+    p("acc_lim_th", F0, "3.2", I),
     p("stop_time_buffer", F0, "0.2", I),
     p("latch_xy_goal_tolerance", B, "false", I),
     p("controller_frequency", FP, "(move_base's, 20.0)", U),

@@ -29,9 +29,12 @@ fn holds(text: &str, get: fn(&NavParams) -> f64, want: f64) {
     assert!(loaded.warnings.is_empty(), "{text}: {:?}", loaded.warnings);
 }
 
+/// A YAML text, how to read the parameter it sets back, and the value it sets.
+type Case = (&'static str, fn(&NavParams) -> f64, f64);
+
 #[test]
 fn each_implemented_name_takes_effect() {
-    let cases: &[(&str, fn(&NavParams) -> f64, f64)] = &[
+    let cases: &[Case] = &[
         // move_base
         ("controller_frequency: 10", |p| p.dwa.controller_period, 0.1),
         ("planner_frequency: 2.0", |p| p.move_base.planner_frequency, 2.0),
