@@ -309,12 +309,6 @@ impl Navigator {
     }
 }
 
-/// Loads navigator parameters from a move_base-style YAML text; errors name the dotted field.
-pub fn params_from_yaml(text: &str) -> Result<NavParams, String> {
-    let de = serde_yaml::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| format!("{}: {}", e.path(), e.inner()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,7 +10,6 @@ use std::time::Duration;
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_bridge::ros::live::{run_live, LiveOptions};
 use xhab_bridge::ros::master::Master;
-use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_sim::sensors::{CameraParams, LidarParams, RayScene};
 use xhab_types::Pose2;
 
@@ -87,13 +86,8 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             run_live(grid, &o)?;
         }
         RosCommand::Nav(a) => {
-            let params = match &a.nav_params {
-                Some(p) => {
-                    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-                    params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
-                }
-                None => NavParams::default(),
-            };
+            // The node knows no robot profile: shapes come from the files, else the defaults.
+            let params = super::nav_params(&a.nav_params, None)?;
             let map = match &a.map {
                 Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
                 None => None,
