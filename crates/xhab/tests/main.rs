@@ -8,3 +8,4 @@ mod ros_interop;
 mod gpu;
 mod localization;
 mod textures;
+mod ros_params;
