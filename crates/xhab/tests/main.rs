@@ -9,3 +9,4 @@ mod ros_names;
 mod gpu;
 mod localization;
 mod textures;
+mod ros_params;
