@@ -518,7 +518,11 @@ pub struct BenchArgs {
     /// Wall seconds to wait for cmd_vel after each tick with --pace lockstep.
     #[arg(long, default_value_t = 0.5, help_heading = "External ROS stack (--agent ros)")]
     pub cmd_vel_grace: f64,
-    /// Clock ticks per simulated second: the stack's controller_frequency (Hz).
+    /// ROS arguments of the simulator node, repeatable: `from:=to` remappings, `__ns:=NS`
+    /// (`$ROS_NAMESPACE` is honoured too), e.g. to meet a stack running in a robot's namespace.
+    #[arg(long = "ros-arg", value_name = "FROM:=TO", help_heading = "External ROS stack (--agent ros)")]
+    pub ros_args: Vec<String>,
+    /// Clock ticks per simulated second: set it to the stack's controller_frequency (Hz).
     #[arg(long, default_value_t = 20.0, help_heading = "External ROS stack (--agent ros)")]
     pub controller_frequency: f64,
     #[command(flatten)]

@@ -234,7 +234,7 @@ fn external_options(a: &BenchArgs, world: &World, robot: Option<&RobotProfile>, 
     Ok(ExternalOptions {
         master: a.ros_master.clone().or_else(|| std::env::var("ROS_MASTER_URI").ok().filter(|s| !s.is_empty())),
         timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)),
-        names: Names::plain("xhab_sim"),
+        names: Names::from_args("xhab_sim", &a.ros_args, std::env::var("ROS_NAMESPACE").ok().filter(|s| !s.is_empty()).as_deref())?,
         goal_interface: match a.goal_interface {
             GoalInterfaceArg::Action => GoalInterface::Action,
             GoalInterfaceArg::Simple => GoalInterface::Simple,
