@@ -185,14 +185,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                 let t = episode_time(env.sim_s());
                 // The step's camera frame first: a depth scan source flattens it, as in-process.
                 let frame = camera!(step, env.pose());
-                let scan = match sensor.as_mut() {
-                    Some(s) if sched.due(t) => {
-                        sched.taken += 1;
-                        let seen = frame.as_ref().map(|(r, f)| (*r, f));
-                        Some(s.scan_seen(env.pose(), grid.floor_z, seen).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
-                    }
-                    _ => None,
-                };
+                let scan = sched.take(sensor.as_mut(), t, env.pose(), grid.floor_z, frame.as_ref().map(|(r, f)| (*r, f))).map_err(RosError::Node)?;
                 let st = RobotState { stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period)), map_to_odom: None };
                 let r = sim.lockstep(&st, frame.as_ref().map(|(r, f)| (&r.params, f)), ep_index, step).await?;
                 match r.kind {

@@ -254,14 +254,7 @@ async fn episode(
             Some(rig) => Some((rig, crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, n, &mut stats).map_err(RosError::Node)?)),
             None => None,
         };
-        let scan = match sensor.as_mut() {
-            Some(s) if sched.due(t) => {
-                sched.taken += 1;
-                let seen = frame.as_ref().map(|(r, f)| (*r, f));
-                Some(s.scan_seen(env.pose(), grid.floor_z, seen).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
-            }
-            _ => None,
-        };
+        let scan = sched.take(sensor.as_mut(), t, env.pose(), grid.floor_z, frame.as_ref().map(|(r, f)| (*r, f))).map_err(RosError::Node)?;
         let m2o = (opts.map_odom == MapOdom::GroundTruth).then(|| env.pose().compose(env.odometry().inverse()));
         let st = RobotState { stamp: stamp(t), truth: env.pose(), floor_z: ep.start_position.z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, opts.scan_period)), map_to_odom: m2o };
         sim.publish_state(&st).await?;
