@@ -74,6 +74,8 @@ pub struct MoveBaseServer {
     current: Option<al::GoalID>,
     /// Finished goals: (status, when it finished, s).
     finished: Vec<(al::GoalStatus, f64)>,
+    /// Goals taken from `move_base_simple/goal` so far (they are named by it).
+    simple_goals: u64,
 }
 
 impl MoveBaseServer {
@@ -87,6 +89,7 @@ impl MoveBaseServer {
             result_pub: node.advertise("move_base/result", false).await?,
             current: None,
             finished: Vec::new(),
+            simple_goals: 0,
         })
     }
 
@@ -125,6 +128,20 @@ impl MoveBaseServer {
             }
         }
         Ok(out)
+    }
+
+    /// Takes a goal that came on `move_base_simple/goal` as move_base does: as an action goal
+    /// of its own, under a new id (preempting the current one), so that its fate shows on
+    /// `move_base/status` and `move_base/result`.
+    pub async fn adopt(&mut self, now: f64) -> Result<(), RosError> {
+        if self.current.is_some() {
+            self.finish(status::PREEMPTED, "preempted by move_base_simple/goal", now).await?;
+        }
+        self.simple_goals += 1;
+        let stamp = cv::time(now);
+        let id = format!("move_base_simple-{}-{}.{:09}", self.simple_goals, stamp.secs, stamp.nsecs);
+        self.current = Some(al::GoalID { stamp, id });
+        Ok(())
     }
 
     /// Ends the current goal with `code` (SUCCEEDED, ABORTED, PREEMPTED) and publishes the result.
