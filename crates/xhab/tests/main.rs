@@ -5,6 +5,7 @@ mod map_vs_slam;
 mod sensors;
 mod raster;
 mod ros_interop;
+mod ros_external;
 mod gpu;
 mod localization;
 mod textures;
