@@ -101,6 +101,7 @@ impl MoveBaseServer {
     /// Takes in goals and cancels that arrived; `now` is the ROS time (s). Returns what the
     /// owner must do, in order.
     pub async fn poll(&mut self, now: f64) -> Result<Vec<ServerEvent>, RosError> {
+        self.forget_finished(now);
         let mut out = Vec::new();
         while let Ok(g) = self.goals.try_recv() {
             let mut id = g.goal_id.clone();
@@ -154,9 +155,15 @@ impl MoveBaseServer {
         self.publish_status(now).await
     }
 
+    /// Drops finished goals older than the status list keeps them, or from the future (the
+    /// clock restarted: their ids may come again).
+    fn forget_finished(&mut self, now: f64) {
+        self.finished.retain(|(_, t)| now - t <= STATUS_LIST_TIMEOUT && *t <= now + 1e-9);
+    }
+
     /// Publishes the status list (the current goal, and goals finished lately).
     pub async fn publish_status(&mut self, now: f64) -> Result<(), RosError> {
-        self.finished.retain(|(_, t)| now - t <= STATUS_LIST_TIMEOUT && *t <= now + 1e-9);
+        self.forget_finished(now);
         let mut list: Vec<al::GoalStatus> = self.finished.iter().map(|(s, _)| s.clone()).collect();
         if let Some(id) = &self.current {
             list.push(al::GoalStatus { goal_id: id.clone(), status: status::ACTIVE, text: "This goal has been accepted by the simple action server".into() });

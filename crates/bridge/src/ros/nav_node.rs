@@ -313,6 +313,15 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
             Some(o) => cv::seconds(&o.header.stamp),
             None => last_odom.map_or(0.0, |(t, _)| t),
         };
+        if let (Some(_), Some((t, _))) = (&od, last_odom) {
+            if now + 1e-9 < t {
+                // A new simulation (another benchmark run) restarted the clock: start over
+                // from the next odometry, keeping the goal and the latest initial pose.
+                tracing::warn!("ROS time moved backwards ({t:.3} s -> {now:.3} s): the stack starts over");
+                (brain, last_tick, pending_scan, last_odom) = (None, None, None, None);
+                goal_pending = goal.is_some();
+            }
+        }
         if let Some(m) = inp.maps.latest() {
             match cv::grid_from_msg(&m) {
                 Ok(g) if map.is_none() => {
