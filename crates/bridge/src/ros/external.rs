@@ -179,6 +179,9 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         clock.advance(&sim, tick).await?;
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
+    // The stack's subscriptions are up now: the static tf and the map again, in case latching
+    // missed a connection accepted as they were first published.
+    sim.republish_latched().await?;
     let clear_name = sim.node.names.resolve("move_base/clear_costmaps");
     let mut clear = sim.node.nh.service_client::<std_srvs::Empty>(&clear_name).await.ok();
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
