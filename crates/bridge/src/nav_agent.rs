@@ -76,6 +76,19 @@ impl ScanSchedule {
     pub fn due(&self, t: f64) -> bool {
         t + 1e-9 >= self.taken as f64 * self.period
     }
+
+    /// The scan of the step at episode time `t` (s) when one is due: taken by `sensor` from
+    /// `base` (flattening `seen`, the step's camera frame, when it comes from the same camera);
+    /// `None` when none is due or there is no sensor.
+    pub fn take(&mut self, sensor: Option<&mut crate::scan_source::ScanSensor>, t: f64, base: Pose2, floor_z: f64, seen: Option<(&xhab_sim::sensors::CameraRig, &xhab_sim::sensors::CameraFrame)>) -> Result<Option<xhab_types::LaserScan>, String> {
+        match sensor {
+            Some(s) if self.due(t) => {
+                self.taken += 1;
+                s.scan_seen(base, floor_z, seen).map(Some).map_err(|e| format!("scan at {t:.2} s: {e}"))
+            }
+            _ => Ok(None),
+        }
+    }
 }
 
 /// The navigator's side of one episode, independent of the transport: fed the step's inputs

@@ -11,13 +11,19 @@ use serde::{Deserialize, Serialize};
 use xhab_types::{normalize_angle, Point2, Pose2, Twist};
 
 /// DWA parameters (ROS names; noetic dwa_local_planner defaults unless noted).
+///
+/// The scores weigh distances in cells (`bias * d / resolution`), not metres as noetic's
+/// DWA does, so `path_distance_bias` and `goal_distance_bias` default to the values ROS
+/// documented before noetic (32 and 24; noetic's are 0.6 and 0.8).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DwaParams {
     /// Largest forward speed (m/s, default 0.5).
     pub max_vel_x: f64,
-    /// Smallest forward speed (m/s, default 0).
+    /// Smallest forward speed (m/s, default 0; negative lets the robot back up).
     pub min_vel_x: f64,
+    /// Largest translational speed, whatever the direction (m/s, default 0.55).
+    pub max_vel_trans: f64,
     /// Largest turn rate (rad/s, default 1.5).
     pub max_vel_theta: f64,
     /// Forward acceleration limit (m/s^2, default 2.5).
@@ -55,6 +61,7 @@ impl Default for DwaParams {
         Self {
             max_vel_x: 0.5,
             min_vel_x: 0.0,
+            max_vel_trans: 0.55,
             max_vel_theta: 1.5,
             acc_lim_x: 2.5,
             acc_lim_theta: 3.2,
@@ -164,7 +171,7 @@ impl Dwa {
         }
         let window = &self.plan[self.progress..=local.max(self.progress)];
         let dt = p.controller_period;
-        let (v_lo, v_hi) = ((vel.linear - p.acc_lim_x * dt).max(p.min_vel_x), (vel.linear + p.acc_lim_x * dt).min(p.max_vel_x));
+        let (v_lo, v_hi) = ((vel.linear - p.acc_lim_x * dt).max(p.min_vel_x).max(-p.max_vel_trans), (vel.linear + p.acc_lim_x * dt).min(p.max_vel_x).min(p.max_vel_trans));
         let (w_lo, w_hi) = ((vel.angular - p.acc_lim_theta * dt).max(-p.max_vel_theta), (vel.angular + p.acc_lim_theta * dt).min(p.max_vel_theta));
         let mut best: Option<(f64, Twist)> = None;
         for i in 0..p.vx_samples.max(1) {

@@ -2,7 +2,8 @@
 //!
 //! [`map_server`]: maps in ROS's format; [`costmap`]: static and inflation layers with ROS
 //! cost values; [`planner`]: A*/Dijkstra global planner; [`dwa`]: the DWA local planner;
-//! [`navigator`]: a move_base-like state machine over them.
+//! [`navigator`]: a move_base-like state machine over them; [`ros_params`]: ROS parameter
+//! files (move_base, costmap_2d, DWA, global_planner, amcl) read into its parameters.
 #![warn(missing_docs)]
 
 pub mod amcl;
@@ -17,3 +18,4 @@ pub mod mapping;
 pub mod navigator;
 pub mod obstacle_layer;
 pub mod planner;
+pub mod ros_params;

@@ -18,8 +18,10 @@ pub enum MapMode {
     Raw,
 }
 
-/// The map's YAML, with map_server's keys and defaults.
+/// The map's YAML, with map_server's keys and defaults; any other key is an error (a typo
+/// such as `negat: 1` must not pass silently).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MapMetadata {
     /// Image file, relative to the YAML's folder unless absolute.
     pub image: PathBuf,
@@ -95,6 +97,11 @@ pub enum MapError {
     },
 }
 
+/// Smallest cell size a map may have (m).
+pub const MIN_RESOLUTION: f64 = 1e-4;
+/// Largest cell size a map may have (m).
+pub const MAX_RESOLUTION: f64 = 100.0;
+
 /// Reads a map_server map: the YAML at `yaml_path` and the image it names.
 pub fn load_map(yaml_path: &Path) -> Result<(OccupancyGrid, MapMetadata), MapError> {
     let text = std::fs::read_to_string(yaml_path).map_err(|source| MapError::Io { path: yaml_path.to_path_buf(), source })?;
@@ -107,6 +114,11 @@ pub fn load_map(yaml_path: &Path) -> Result<(OccupancyGrid, MapMetadata), MapErr
     let bad = |field: &str, reason: String| MapError::Yaml { path: yaml_path.to_path_buf(), field: field.into(), reason };
     if !(meta.resolution.is_finite() && meta.resolution > 0.0) {
         return Err(bad("resolution", format!("must be a positive number, got {}", meta.resolution)));
+    }
+    // Cells from 0.1 mm to 100 m: outside that no map is meant, and cell arithmetic
+    // (distances over the resolution) would overflow or lose all precision.
+    if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&meta.resolution) {
+        return Err(bad("resolution", format!("must be between {MIN_RESOLUTION} and {MAX_RESOLUTION} m per cell, got {}", meta.resolution)));
     }
     if meta.origin.iter().any(|v| !v.is_finite()) {
         return Err(bad("origin", "must be three finite numbers".into()));
@@ -331,6 +343,11 @@ mod tests {
         std::fs::write(&y, "image: x.pgm\nresolution: abc\norigin: [0, 0, 0]\n").unwrap();
         let e = load_map(&y).unwrap_err().to_string();
         assert!(e.contains("typo.yaml") && e.contains("resolution"), "{e}");
+        for (text, key) in [("image: x.pgm\nresolution: 1e-50\norigin: [0, 0, 0]\n", "resolution"), ("image: x.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegat: 1\n", "negat")] {
+            std::fs::write(&y, text).unwrap();
+            let e = load_map(&y).unwrap_err().to_string();
+            assert!(e.contains("typo.yaml") && e.contains(key), "{e}");
+        }
         std::fs::write(&y, "image: missing.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n").unwrap();
         assert!(load_map(&y).unwrap_err().to_string().contains("missing.pgm"));
     }

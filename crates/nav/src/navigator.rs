@@ -8,14 +8,18 @@ use crate::planner::{plan, PlannerParams};
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
-/// Navigator parameters (move_base names) and those of its parts.
+/// Navigator parameters (move_base names) and those of its parts; read ROS parameter files
+/// into it with [`crate::ros_params`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(default, deny_unknown_fields)]
 pub struct NavParams {
     /// move_base settings.
     pub move_base: MoveBaseParams,
-    /// Global costmap.
+    /// Global costmap (`global_costmap/`): the static map inflated, and the obstacle marks.
     pub global_costmap: CostmapParams,
+    /// Local costmap (`local_costmap/`): shape and inflation of the rolling window the
+    /// controller works on once scans arrive.
+    pub local_costmap: CostmapParams,
     /// Global planner.
     #[serde(alias = "GlobalPlanner")]
     pub planner: PlannerParams,
@@ -28,23 +32,31 @@ pub struct NavParams {
     pub amcl: crate::amcl::AmclParams,
 }
 
-/// move_base's own parameters.
+/// move_base's own parameters (ROS names; xhab's defaults where they depart from noetic's,
+/// which are given).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct MoveBaseParams {
-    /// Replanning rate while controlling (Hz, default 0.5; 0 = only when needed).
+    /// Replanning rate while controlling (Hz, default 0.5, noetic 0; 0 = only when needed).
     pub planner_frequency: f64,
     /// How long planning may fail before recovery (s, default 5).
     pub planner_patience: f64,
-    /// How long the controller may fail before recovery (s, default 3).
+    /// How long the controller may fail before recovery (s, default 3, noetic 15).
     pub controller_patience: f64,
     /// Progress the robot must make within `oscillation_timeout` (m, default 0.5).
     pub oscillation_distance: f64,
-    /// Time to make `oscillation_distance` of progress before recovery (s, default 10; 0 = off).
+    /// Time to make `oscillation_distance` of progress before recovery (s, default 10,
+    /// noetic 0; 0 = off).
     pub oscillation_timeout: f64,
-    /// Recoveries before giving up (default 4).
+    /// Failed plans in a row before recovery, besides `planner_patience` (default -1: no limit).
+    pub max_planning_retries: i32,
+    /// Recover before giving up (default true); false aborts at the first failure.
+    pub recovery_behavior_enabled: bool,
+    /// The recovery may rotate in place (default true); false only clears the costmaps.
+    pub clearing_rotation_allowed: bool,
+    /// Recoveries before giving up (default 4; xhab's, ROS runs its list of behaviours once).
     pub max_recoveries: u32,
-    /// Turn rate of the rotate-in-place recovery (rad/s, default 1.0).
+    /// Turn rate of the rotate-in-place recovery (rad/s, default 1.0; xhab's).
     pub recovery_rotation_speed: f64,
 }
 
@@ -56,6 +68,9 @@ impl Default for MoveBaseParams {
             controller_patience: 3.0,
             oscillation_distance: 0.5,
             oscillation_timeout: 10.0,
+            max_planning_retries: -1,
+            recovery_behavior_enabled: true,
+            clearing_rotation_allowed: true,
             max_recoveries: 4,
             recovery_rotation_speed: 1.0,
         }
@@ -104,6 +119,8 @@ pub struct Navigator {
     plan: Vec<Pose2>,
     last_plan: f64,
     plan_fail_since: Option<f64>,
+    /// Failed plans since the last good one.
+    plan_failures: u32,
     control_fail_since: Option<f64>,
     progress_mark: (f64, Point2),
     recoveries: u32,
@@ -114,7 +131,7 @@ impl Navigator {
     /// A navigator with `params`.
     pub fn new(params: NavParams) -> Self {
         let mut dwa = Dwa::new(params.dwa.clone());
-        dwa.footprint = params.global_costmap.footprint.clone();
+        dwa.footprint = params.local_costmap.footprint.clone();
         Self {
             params,
             costmap: None,
@@ -126,6 +143,7 @@ impl Navigator {
             plan: Vec::new(),
             last_plan: f64::NEG_INFINITY,
             plan_fail_since: None,
+            plan_failures: 0,
             control_fail_since: None,
             progress_mark: (0.0, Point2::default()),
             recoveries: 0,
@@ -173,6 +191,7 @@ impl Navigator {
         self.plan.clear();
         self.last_plan = f64::NEG_INFINITY;
         self.plan_fail_since = None;
+        self.plan_failures = 0;
         self.control_fail_since = None;
         self.recoveries = 0;
         self.progress_mark = (now, Point2::new(f64::NAN, f64::NAN));
@@ -231,13 +250,17 @@ impl Navigator {
                     self.dwa.set_plan(&self.plan);
                     self.last_plan = now;
                     self.plan_fail_since = None;
+                    self.plan_failures = 0;
                     self.status = NavStatus::Controlling;
                 }
                 Err(e) => {
                     let since = *self.plan_fail_since.get_or_insert(now);
+                    self.plan_failures += 1;
                     tracing::debug!("planning failed: {e}");
-                    if now - since > mb.planner_patience {
-                        return self.recover(now, "planner patience");
+                    // As move_base: `max_planning_retries` < 0 never runs out.
+                    let retries_out = u32::try_from(mb.max_planning_retries).is_ok_and(|m| self.plan_failures > m);
+                    if now - since > mb.planner_patience || retries_out {
+                        return self.recover(now, if retries_out { "max planning retries" } else { "planner patience" });
                     }
                     self.status = NavStatus::Planning;
                     return stop(self.status);
@@ -247,7 +270,7 @@ impl Navigator {
         let local;
         let cm = match (&self.obstacles, &self.static_costmap) {
             (Some(ob), Some(st)) => {
-                local = ob.local_costmap(st, here, &self.params.global_costmap);
+                local = ob.local_costmap(st, here, &self.params.local_costmap);
                 &local
             }
             _ => self.costmap.as_ref().expect("checked above"),
@@ -272,28 +295,25 @@ impl Navigator {
     fn recover(&mut self, now: f64, why: &str) -> NavCommand {
         self.recoveries += 1;
         tracing::debug!("recovery {} ({why})", self.recoveries);
-        if self.recoveries > self.params.move_base.max_recoveries {
+        let mb = &self.params.move_base;
+        if !mb.recovery_behavior_enabled || self.recoveries > mb.max_recoveries {
             self.status = NavStatus::Aborted;
             return NavCommand { twist: Twist::default(), status: self.status };
         }
-        // Rotate in place a full turn, then clear the plan and replan.
+        // Rotate in place a full turn (when allowed), then clear the plan and replan.
+        let turn = if mb.clearing_rotation_allowed { mb.recovery_rotation_speed } else { 0.0 };
         self.status = NavStatus::Recovering;
-        self.recovery_until = now + std::f64::consts::TAU / self.params.move_base.recovery_rotation_speed;
+        self.recovery_until = if turn > 0.0 { now + std::f64::consts::TAU / turn } else { now };
         self.plan.clear();
         self.control_fail_since = None;
         self.plan_fail_since = None;
+        self.plan_failures = 0;
         // Clear the costmaps' obstacle marks, as move_base's first recovery.
         if let Some(ob) = self.obstacles.as_mut() {
             ob.reset();
         }
-        NavCommand { twist: Twist { linear: 0.0, angular: self.params.move_base.recovery_rotation_speed }, status: self.status }
+        NavCommand { twist: Twist { linear: 0.0, angular: turn }, status: self.status }
     }
-}
-
-/// Loads navigator parameters from a move_base-style YAML text; errors name the dotted field.
-pub fn params_from_yaml(text: &str) -> Result<NavParams, String> {
-    let de = serde_yaml::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| format!("{}: {}", e.path(), e.inner()))
 }
 
 #[cfg(test)]
@@ -400,14 +420,5 @@ mod tests {
     fn aborts_when_the_goal_is_enclosed() {
         let (s, _) = simulate(&room(false, true), Pose2::new(1.0, 1.0, 0.0), Point2::new(4.0, 3.5), 400.0);
         assert_eq!(s, NavStatus::Aborted);
-    }
-
-    #[test]
-    fn yaml_with_ros_names_loads_and_typos_are_named() {
-        let p = params_from_yaml("global_costmap:\n  inflation_radius: 0.4\nDWAPlannerROS:\n  max_vel_x: 0.3\nmove_base:\n  planner_patience: 2.0\n").unwrap();
-        assert_eq!(p.global_costmap.inflation_radius, 0.4);
-        assert_eq!(p.dwa.max_vel_x, 0.3);
-        let e = params_from_yaml("global_costmap:\n  inflation_radius: wide\n").unwrap_err();
-        assert!(e.contains("global_costmap.inflation_radius"), "{e}");
     }
 }

@@ -14,16 +14,22 @@ pub struct ObstacleParams {
     pub obstacle_range: f64,
     /// Rays clear free space up to this distance (m, default 3.0).
     pub raytrace_range: f64,
-    /// Invalid (NaN / out of range) readings clear along the whole ray (default true, as
-    /// `inf_is_valid` for a lidar that reports max range as no return).
+    /// Invalid (NaN / out of range) readings clear along the whole ray (default true; ROS's
+    /// `inf_is_valid`, false by default in an observation source, for a lidar that reports
+    /// max range as no return).
     pub clear_on_max_range: bool,
     /// Side of the rolling local costmap (m, default 4).
     pub local_window: f64,
+    /// Readings mark obstacles (default true).
+    pub marking: bool,
+    /// Rays clear the cells they cross (default true; an observation source in a ROS file
+    /// defaults to false, as costmap_2d's).
+    pub clearing: bool,
 }
 
 impl Default for ObstacleParams {
     fn default() -> Self {
-        Self { obstacle_range: 2.5, raytrace_range: 3.0, clear_on_max_range: true, local_window: 4.0 }
+        Self { obstacle_range: 2.5, raytrace_range: 3.0, clear_on_max_range: true, local_window: 4.0, marking: true, clearing: true }
     }
 }
 
@@ -73,7 +79,15 @@ impl ObstacleLayer {
         for (i, &r) in scan.ranges.iter().enumerate() {
             let a = sensor.yaw + scan.angle(i);
             let valid = r.is_finite() && (r as f64) >= scan.range_min && (r as f64) <= scan.range_max;
-            let clear_to = if valid { (r as f64).min(p.raytrace_range) } else if p.clear_on_max_range { p.raytrace_range.min(scan.range_max) } else { continue };
+            let clear_to = if !p.clearing {
+                0.0
+            } else if valid {
+                (r as f64).min(p.raytrace_range)
+            } else if p.clear_on_max_range {
+                p.raytrace_range.min(scan.range_max)
+            } else {
+                continue;
+            };
             // Clear up to (not including) the hit's cell.
             let hit_cell = valid.then(|| self.cell(Point2::new(o.x + r as f64 * a.cos(), o.y + r as f64 * a.sin()))).flatten();
             let n = (clear_to / (self.resolution * 0.5)).ceil() as usize;
@@ -85,7 +99,7 @@ impl ObstacleLayer {
                     }
                 }
             }
-            if valid && (r as f64) <= p.obstacle_range {
+            if p.marking && valid && (r as f64) <= p.obstacle_range {
                 if let Some(c) = hit_cell {
                     self.marked[c] = true;
                 }

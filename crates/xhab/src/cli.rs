@@ -2,6 +2,21 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use xhab_nav::ros_params::ParamFile;
+
+/// `--nav-params`, short help.
+const NAV_PARAMS_HELP: &str = "Navigation parameters: ROS 1 YAML as move_base and amcl read it, FILE[@NAMESPACE], repeatable";
+
+/// `--nav-params`, long help.
+const NAV_PARAMS_LONG_HELP: &str = "Navigation parameters: ROS 1 YAML as move_base and amcl read it, FILE[@NAMESPACE], repeatable.
+
+Files are layered as roslaunch's <rosparam file=FILE ns=NAMESPACE> loads them: later files override single keys of earlier ones. Keys use ROS's names in move_base's private namespace (its own names, global_costmap/, local_costmap/, DWAPlannerROS/, GlobalPlanner/ or NavfnROS/) and amcl's (amcl/, or at the top). Keys xhab does not use are warned about, never rejected; wrong types and values out of range are errors naming the file and key. A costmap whose shape the files do not give (footprint, robot_radius) takes the robot's.
+
+Example (TurtleBot3's files, as move_base.launch loads them):
+  --nav-params costmap_common_params_burger.yaml@global_costmap
+  --nav-params costmap_common_params_burger.yaml@local_costmap
+  --nav-params local_costmap_params.yaml --nav-params global_costmap_params.yaml
+  --nav-params move_base_params.yaml --nav-params dwa_local_planner_params_burger.yaml";
 
 /// xhab: Habitat-style PointNav benchmarks, maps from 3D scenes, and ROS interop, without Habitat.
 ///
@@ -74,9 +89,9 @@ pub struct LocalizeArgs {
     /// height, as `xhab map --laser-height` makes it].
     #[arg(long)]
     pub map: Option<PathBuf>,
-    /// Navigation and AMCL parameters (move_base/amcl-style YAML with ROS names).
-    #[arg(long)]
-    pub nav_params: Option<PathBuf>,
+    /// `--nav-params`: ROS parameter files, layered.
+    #[arg(long, value_name = "FILE[@NAMESPACE]", help = NAV_PARAMS_HELP, long_help = NAV_PARAMS_LONG_HELP)]
+    pub nav_params: Vec<ParamFile>,
     /// Particles spread over the free space at the start (sets amcl max_particles for the
     /// trials; KLD sampling shrinks the set as the filter converges). A uniform spread needs
     /// far more than tracking does: with ROS's 5,000 most trials start with no particle near
@@ -193,9 +208,13 @@ pub struct RosNavArgs {
     /// Localisation.
     #[arg(long, value_enum, default_value_t = LocalizationArg::Amcl)]
     pub localization: LocalizationArg,
-    /// Navigation parameters (move_base-style YAML with ROS names).
-    #[arg(long)]
-    pub nav_params: Option<PathBuf>,
+    /// `--nav-params`: ROS parameter files, layered.
+    #[arg(long, value_name = "FILE[@NAMESPACE]", help = NAV_PARAMS_HELP, long_help = NAV_PARAMS_LONG_HELP)]
+    pub nav_params: Vec<ParamFile>,
+    /// Robot profile whose size the costmaps take where the parameter files give no
+    /// footprint or robot_radius: habitat, locobot, turtlebot3_burger, turtlebot3_waffle, or a .yaml file.
+    #[arg(long, default_value = "habitat")]
+    pub robot: String,
     /// Seed of AMCL.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -290,9 +309,9 @@ pub struct MapArgs {
     /// centre of the largest island].
     #[arg(long, allow_hyphen_values = true, help_heading = "Exploration")]
     pub start: Option<String>,
-    /// Navigation parameters (move_base-style YAML with ROS names).
-    #[arg(long, help_heading = "Exploration")]
-    pub nav_params: Option<PathBuf>,
+    /// `--nav-params`: ROS parameter files, layered.
+    #[arg(long, value_name = "FILE[@NAMESPACE]", help = NAV_PARAMS_HELP, long_help = NAV_PARAMS_LONG_HELP, help_heading = "Exploration")]
+    pub nav_params: Vec<ParamFile>,
     /// Exploration time limit (simulated s).
     #[arg(long, default_value_t = 1800.0, help_heading = "Exploration")]
     pub max_time: f64,
@@ -443,9 +462,9 @@ pub struct BenchArgs {
     /// Static map for the nav agent (map_server YAML) [default: the map `xhab map` makes of the scene].
     #[arg(long, help_heading = "Navigation")]
     pub map: Option<PathBuf>,
-    /// Navigation parameters (move_base-style YAML with ROS names).
-    #[arg(long, help_heading = "Navigation")]
-    pub nav_params: Option<PathBuf>,
+    /// `--nav-params`: ROS parameter files, layered.
+    #[arg(long, value_name = "FILE[@NAMESPACE]", help = NAV_PARAMS_HELP, long_help = NAV_PARAMS_LONG_HELP, help_heading = "Navigation")]
+    pub nav_params: Vec<ParamFile>,
     /// Run the nav agent without laser scans (static map only, no obstacle layer).
     #[arg(long, help_heading = "Navigation")]
     pub no_scans: bool,
@@ -499,7 +518,11 @@ pub struct BenchArgs {
     /// Wall seconds to wait for cmd_vel after each tick with --pace lockstep.
     #[arg(long, default_value_t = 0.5, help_heading = "External ROS stack (--agent ros)")]
     pub cmd_vel_grace: f64,
-    /// Clock ticks per simulated second: the stack's controller_frequency (Hz).
+    /// ROS arguments of the simulator node, repeatable: `from:=to` remappings, `__ns:=NS`
+    /// (`$ROS_NAMESPACE` is honoured too), e.g. to meet a stack running in a robot's namespace.
+    #[arg(long = "ros-arg", value_name = "FROM:=TO", help_heading = "External ROS stack (--agent ros)")]
+    pub ros_args: Vec<String>,
+    /// Clock ticks per simulated second: set it to the stack's controller_frequency (Hz).
     #[arg(long, default_value_t = 20.0, help_heading = "External ROS stack (--agent ros)")]
     pub controller_frequency: f64,
     #[command(flatten)]
@@ -601,9 +624,9 @@ pub struct NavigateArgs {
     /// Picture of the run (PNG).
     #[arg(long, default_value = "navigate.png")]
     pub out: PathBuf,
-    /// Navigation parameters (move_base-style YAML with ROS names).
-    #[arg(long)]
-    pub nav_params: Option<PathBuf>,
+    /// `--nav-params`: ROS parameter files, layered.
+    #[arg(long, value_name = "FILE[@NAMESPACE]", help = NAV_PARAMS_HELP, long_help = NAV_PARAMS_LONG_HELP)]
+    pub nav_params: Vec<ParamFile>,
     /// Robot profile name or .yaml file.
     #[arg(long, default_value = "habitat")]
     pub robot: String,

@@ -6,6 +6,8 @@ mod sensors;
 mod raster;
 mod ros_interop;
 mod ros_names;
+mod ros_external;
 mod gpu;
 mod localization;
 mod textures;
+mod ros_params;

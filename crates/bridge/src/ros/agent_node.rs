@@ -53,11 +53,58 @@ pub(crate) async fn episode_announcement(episodes: &mut tokio::sync::mpsc::Unbou
     }
 }
 
-/// Runs the agent node until `shutdown` fires (or forever). `field_of` gives the geodesic
-/// field of a goal on a grid (a cache shared with the simulator when both run in one
-/// process, else built here).
-pub async fn run(uri: &str, names: Names, world: Arc<World>, kind: AgentKind, task: TaskConfig, timeout: Duration, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
+/// Runs the agent node until `shutdown` fires (or forever): in xhab's lock-step protocol when
+/// `lockstep`, else free-running (`xhab ros agent` beside `xhab ros sim`: a goal on
+/// `move_base_simple/goal`, then one `action` (std_msgs/Int16) per `ground_truth/pose`).
+pub async fn run(uri: &str, names: Names, world: Arc<World>, kind: AgentKind, task: TaskConfig, timeout: Duration, lockstep: bool, shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
     let node = RosNode::new(uri, names).await?;
+    if lockstep {
+        run_lockstep(node, world, kind, task, timeout, shutdown).await
+    } else {
+        run_free(node, world, kind, task, shutdown).await
+    }
+}
+
+async fn run_free(node: RosNode, world: Arc<World>, kind: AgentKind, task: TaskConfig, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
+    let action = node.advertise::<super::msgs::std_msgs::Int16>("action", false).await?;
+    let mut poses = node.subscribe::<gm::PoseStamped>("ground_truth/pose").await?;
+    let mut goals = node.subscribe::<gm::PoseStamped>("move_base_simple/goal").await?;
+    let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
+    let mut view: Option<View> = None;
+    let mut pose: Option<gm::PoseStamped> = None;
+    loop {
+        // A pose asks for an action; a goal starts an episode from the last pose (a
+        // simulator in lock-step waits for the answer to the pose it sent before the goal).
+        tokio::select! {
+            m = poses.recv() => match m { Some(m) => pose = Some(m), None => return Ok(()) },
+            g = goals.recv() => {
+                let (Some(g), Some(m)) = (g, pose.as_ref()) else { continue };
+                let z = m.pose.position.z;
+                match world.grid_at(z) {
+                    Ok(grid) => {
+                        let goal = cv::pose2(&g.pose).position();
+                        let field = grid.field(&[goal]);
+                        agent.reset();
+                        tracing::info!("new goal ({:.2}, {:.2})", goal.x, goal.y);
+                        view = Some(View { pose: cv::pose2(&m.pose), config: task.clone(), grid, field });
+                    }
+                    Err(e) => tracing::warn!("goal ignored: the robot at height {z:.3}: {e}"),
+                }
+            }
+            _ = shutdown.changed() => return Ok(()),
+        }
+        let (Some(v), Some(m)) = (view.as_mut(), pose.as_ref()) else { continue };
+        v.pose = cv::pose2(&m.pose);
+        let a = agent.act(v, None);
+        tracing::debug!("agent: action {a:?} at ({:.2}, {:.2}), connected: {}", v.pose.x, v.pose.y, action.has_connected_clients());
+        action.publish(&super::msgs::std_msgs::Int16 { data: a as i16 }).await.map_err(|e| RosError::Node(format!("publishing on action: {e}")))?;
+        if a == xhab_sim::action::Action::Stop {
+            view = None;
+        }
+    }
+}
+
+async fn run_lockstep(node: RosNode, world: Arc<World>, kind: AgentKind, task: TaskConfig, timeout: Duration, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
     let reply = node.advertise::<xhab_msgs::StepReply>(STEP_REPLY_TOPIC, false).await?;
     let mut poses = StampInbox::new(node.subscribe::<gm::PoseStamped>("ground_truth/pose").await?);
     let mut episodes = node.subscribe::<xhab_msgs::Episode>(EPISODE_TOPIC).await?;

@@ -55,7 +55,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
         (kind, _) => {
             let (uri, world, task, timeout) = (uri.to_string(), world.clone(), cfg.task.clone(), opts.timeout);
-            tokio::spawn(async move { super::agent_node::run(&uri, Names::plain("xhab_agent"), world, kind, task, timeout, stop_rx).await })
+            tokio::spawn(async move { super::agent_node::run(&uri, Names::plain("xhab_agent"), world, kind, task, timeout, true, stop_rx).await })
         }
     };
     let t_start = Instant::now();
@@ -185,14 +185,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                 let t = episode_time(env.sim_s());
                 // The step's camera frame first: a depth scan source flattens it, as in-process.
                 let frame = camera!(step, env.pose());
-                let scan = match sensor.as_mut() {
-                    Some(s) if sched.due(t) => {
-                        sched.taken += 1;
-                        let seen = frame.as_ref().map(|(r, f)| (*r, f));
-                        Some(s.scan_seen(env.pose(), grid.floor_z, seen).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
-                    }
-                    _ => None,
-                };
+                let scan = sched.take(sensor.as_mut(), t, env.pose(), grid.floor_z, frame.as_ref().map(|(r, f)| (*r, f))).map_err(RosError::Node)?;
                 let st = RobotState { stamp: stamp(t), truth: env.pose(), floor_z: start_z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, setup.scan_period)), map_to_odom: None };
                 let r = sim.lockstep(&st, frame.as_ref().map(|(r, f)| (&r.params, f)), ep_index, step).await?;
                 match r.kind {

@@ -144,8 +144,13 @@ pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, Strin
     if m.data.len() != w * h {
         return Err(format!("map: {} cells of data for {w} x {h}", m.data.len()));
     }
-    if !(m.info.resolution > 0.0 && m.info.resolution.is_finite()) {
-        return Err(format!("map: bad resolution {}", m.info.resolution));
+    use xhab_nav::map_server::{MAX_RESOLUTION, MIN_RESOLUTION};
+    if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&(m.info.resolution as f64)) {
+        return Err(format!("map: resolution {} is not between {MIN_RESOLUTION} and {MAX_RESOLUTION} m per cell", m.info.resolution));
+    }
+    let o = &m.info.origin;
+    if ![o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w].iter().all(|v| v.is_finite()) {
+        return Err("map: origin is not finite".into());
     }
     Ok(OccupancyGrid { width: w, height: h, resolution: m.info.resolution as f64, origin: pose2(&m.info.origin), data: m.data.clone() })
 }

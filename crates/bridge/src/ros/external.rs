@@ -101,8 +101,10 @@ struct Launched(Child);
 
 impl Drop for Launched {
     fn drop(&mut self) {
-        let pgid = self.0.id().to_string();
-        let _ = Command::new("kill").args(["-TERM", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        // `--` before the negative id: procps-ng's kill reads `-TERM -1234` as signal TERM
+        // to process group -1 (its first digit), i.e. to every process it may signal.
+        let group = format!("-{}", self.0.id());
+        let _ = Command::new("kill").args(["-s", "TERM", "--", &group]).stderr(Stdio::null()).status();
         let t = Instant::now();
         while t.elapsed() < Duration::from_secs(3) {
             if let Ok(Some(_)) = self.0.try_wait() {
@@ -110,7 +112,7 @@ impl Drop for Launched {
             }
             std::thread::sleep(Duration::from_millis(50));
         }
-        let _ = Command::new("kill").args(["-KILL", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+        let _ = Command::new("kill").args(["-s", "KILL", "--", &group]).stderr(Stdio::null()).status();
         let _ = self.0.wait();
     }
 }
@@ -177,6 +179,9 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         clock.advance(&sim, tick).await?;
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
+    // The stack's subscriptions are up now: the static tf and the map again, in case latching
+    // missed a connection accepted as they were first published.
+    sim.republish_latched().await?;
     let clear_name = sim.node.names.resolve("move_base/clear_costmaps");
     let mut clear = sim.node.nh.service_client::<std_srvs::Empty>(&clear_name).await.ok();
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
@@ -252,14 +257,7 @@ async fn episode(
             Some(rig) => Some((rig, crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, n, &mut stats).map_err(RosError::Node)?)),
             None => None,
         };
-        let scan = match sensor.as_mut() {
-            Some(s) if sched.due(t) => {
-                sched.taken += 1;
-                let seen = frame.as_ref().map(|(r, f)| (*r, f));
-                Some(s.scan_seen(env.pose(), grid.floor_z, seen).map_err(|e| RosError::Node(format!("scan at {t:.2} s: {e}")))?)
-            }
-            _ => None,
-        };
+        let scan = sched.take(sensor.as_mut(), t, env.pose(), grid.floor_z, frame.as_ref().map(|(r, f)| (*r, f))).map_err(RosError::Node)?;
         let m2o = (opts.map_odom == MapOdom::GroundTruth).then(|| env.pose().compose(env.odometry().inverse()));
         let st = RobotState { stamp: stamp(t), truth: env.pose(), floor_z: ep.start_position.z, odom: env.odometry(), twist: env.robot().twist(), scan: scan.as_ref().map(|s| (s, opts.scan_period)), map_to_odom: m2o };
         sim.publish_state(&st).await?;
@@ -353,11 +351,28 @@ async fn episode(
             tr.push(env.pose());
         }
     };
+    let end_t = stamp(env.sim_s());
+    if client.acknowledged() && !client.state.is_some_and(status::is_terminal) {
+        // The goal was cancelled: the stack reports it PREEMPTED once its clock moves on (a
+        // rospy.Rate, a sim-time timer). Tick the clock through the second between episodes,
+        // the robot standing still, until it does (at most 50 ms of wall time a tick).
+        for k in 1..(1.0 / tick).floor() as u32 {
+            clock.t = episode_time(end_t + k as f64 * tick);
+            sim.publish_clock(clock.t).await?;
+            let deadline = Instant::now() + Duration::from_millis(50);
+            while !client.absorb().is_some_and(status::is_terminal) && Instant::now() < deadline {
+                tokio::time::sleep(Duration::from_millis(2)).await;
+            }
+            if client.state.is_some_and(status::is_terminal) {
+                break;
+            }
+        }
+    }
     let ros_status = client.state.map_or("NONE", status::name).to_string();
     client.clear();
     // The robot stands still for a tick while the next episode is set up.
     let _ = sim.cmd_vel_within(Duration::from_millis(1)).await;
-    clock.t = stamp(env.sim_s());
+    clock.t = end_t;
     clock.advance(sim, 1.0).await?;
     Ok(EpisodeRun {
         episode_id: ep.episode_id.clone(),

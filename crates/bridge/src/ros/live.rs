@@ -171,7 +171,8 @@ async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosE
                         Ok(Ok(Command::Twist(_))) => tracing::warn!("cmd_vel ignored: the discrete simulator takes `action` (0 stop, 1 forward, 2 left, 3 right)"),
                         Ok(Err(e)) => return Err(e),
                         Err(_) if !o.lockstep => break None,
-                        Err(_) => {}
+                        // Lock-step: the state again (same stamp), for a late subscriber.
+                        Err(_) => sim.publish_state(&st).await?,
                     }
                 };
                 if let Some(a) = a {

@@ -74,6 +74,8 @@ pub struct MoveBaseServer {
     current: Option<al::GoalID>,
     /// Finished goals: (status, when it finished, s).
     finished: Vec<(al::GoalStatus, f64)>,
+    /// Goals taken from `move_base_simple/goal` so far (they are named by it).
+    simple_goals: u64,
 }
 
 impl MoveBaseServer {
@@ -87,6 +89,7 @@ impl MoveBaseServer {
             result_pub: node.advertise("move_base/result", false).await?,
             current: None,
             finished: Vec::new(),
+            simple_goals: 0,
         })
     }
 
@@ -98,6 +101,7 @@ impl MoveBaseServer {
     /// Takes in goals and cancels that arrived; `now` is the ROS time (s). Returns what the
     /// owner must do, in order.
     pub async fn poll(&mut self, now: f64) -> Result<Vec<ServerEvent>, RosError> {
+        self.forget_finished(now);
         let mut out = Vec::new();
         while let Ok(g) = self.goals.try_recv() {
             let mut id = g.goal_id.clone();
@@ -127,6 +131,20 @@ impl MoveBaseServer {
         Ok(out)
     }
 
+    /// Takes a goal that came on `move_base_simple/goal` as move_base does: as an action goal
+    /// of its own, under a new id (preempting the current one), so that its fate shows on
+    /// `move_base/status` and `move_base/result`.
+    pub async fn adopt(&mut self, now: f64) -> Result<(), RosError> {
+        if self.current.is_some() {
+            self.finish(status::PREEMPTED, "preempted by move_base_simple/goal", now).await?;
+        }
+        self.simple_goals += 1;
+        let stamp = cv::time(now);
+        let id = format!("move_base_simple-{}-{}.{:09}", self.simple_goals, stamp.secs, stamp.nsecs);
+        self.current = Some(al::GoalID { stamp, id });
+        Ok(())
+    }
+
     /// Ends the current goal with `code` (SUCCEEDED, ABORTED, PREEMPTED) and publishes the result.
     pub async fn finish(&mut self, code: u8, text: &str, now: f64) -> Result<(), RosError> {
         let Some(id) = self.current.take() else { return Ok(()) };
@@ -137,9 +155,15 @@ impl MoveBaseServer {
         self.publish_status(now).await
     }
 
+    /// Drops finished goals older than the status list keeps them, or from the future (the
+    /// clock restarted: their ids may come again).
+    fn forget_finished(&mut self, now: f64) {
+        self.finished.retain(|(_, t)| now - t <= STATUS_LIST_TIMEOUT && *t <= now + 1e-9);
+    }
+
     /// Publishes the status list (the current goal, and goals finished lately).
     pub async fn publish_status(&mut self, now: f64) -> Result<(), RosError> {
-        self.finished.retain(|(_, t)| now - t <= STATUS_LIST_TIMEOUT && *t <= now + 1e-9);
+        self.forget_finished(now);
         let mut list: Vec<al::GoalStatus> = self.finished.iter().map(|(s, _)| s.clone()).collect();
         if let Some(id) = &self.current {
             list.push(al::GoalStatus { goal_id: id.clone(), status: status::ACTIVE, text: "This goal has been accepted by the simple action server".into() });

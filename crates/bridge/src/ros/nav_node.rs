@@ -291,7 +291,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
     let mut current_map = map.clone();
     let mut current_amcl_map = amcl_map.clone();
     let mut brain: Option<NavBrain> = None;
-    let mut goal: Option<(Point2, bool)> = None; // (goal, from the action)
+    let mut goal: Option<Point2> = None;
     let mut goal_pending = false;
     let mut init: Option<(Pose2, (f64, f64))> = None;
     let mut last_tick: Option<f64> = None;
@@ -318,6 +318,15 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
             Some(o) => cv::seconds(&o.header.stamp),
             None => last_odom.map_or(0.0, |(t, _)| t),
         };
+        if let (Some(_), Some((t, _))) = (&od, last_odom) {
+            if now + 1e-9 < t {
+                // A new simulation (another benchmark run) restarted the clock: start over
+                // from the next odometry, keeping the goal and the latest initial pose.
+                tracing::warn!("ROS time moved backwards ({t:.3} s -> {now:.3} s): the stack starts over");
+                (brain, last_tick, pending_scan, last_odom) = (None, None, None, None);
+                goal_pending = goal.is_some();
+            }
+        }
         if let Some(m) = inp.maps.latest() {
             match cv::grid_from_msg(&m) {
                 Ok(g) if map.is_none() => {
@@ -353,10 +362,8 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         while let Ok(g) = simple_goals.try_recv() {
             match goal_in_map(&inp.buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
                 Some(p) => {
-                    if server.active() {
-                        server.finish(status::PREEMPTED, "preempted by move_base_simple/goal", now).await?;
-                    }
-                    goal = Some((p, false));
+                    server.adopt(now).await?;
+                    goal = Some(p);
                     goal_pending = true;
                 }
                 None => tracing::warn!("goal in frame '{}' ignored: no transform to map", g.header.frame_id),
@@ -366,7 +373,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
             match ev {
                 ServerEvent::NewGoal(g) => match goal_in_map(&inp.buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
                     Some(p) => {
-                        goal = Some((p, true));
+                        goal = Some(p);
                         goal_pending = true;
                     }
                     None => server.finish(status::ABORTED, &format!("no transform from '{}' to map", g.header.frame_id), now).await?,
@@ -385,7 +392,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         let odom = cv::pose2(&od.pose.pose);
         last_odom = Some((now, odom));
         if goal_pending {
-            if let (Some((g, _)), Some(m)) = (goal, current_map.as_ref()) {
+            if let (Some(g), Some(m)) = (goal, current_map.as_ref()) {
                 match brain.as_mut() {
                     Some(b) => b.set_goal(g, now),
                     None => {
@@ -423,14 +430,11 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         };
         let xs = scan.as_ref().map(cv::scan_from_msg);
         let r = b.step(NavInputs { t: now, odom, twist: cv::twist2(&od.twist.twist), truth: pose_now, scan: xs.as_ref(), scan_mount });
-        let from_action = goal.is_some_and(|(_, a)| a);
         let tw = match r {
             NavReply::Drive(tw) => tw,
             NavReply::Stop | NavReply::Abort => {
                 let (code, text) = if r == NavReply::Stop { (status::SUCCEEDED, "goal reached") } else { (status::ABORTED, "failed to reach the goal") };
-                if from_action {
-                    server.finish(code, text, now).await?;
-                }
+                server.finish(code, text, now).await?;
                 tracing::info!("goal {}", text);
                 goal = None;
                 Twist::default()
@@ -438,7 +442,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         };
         out.drive(tw).await?;
         out.report(b, now, odom, tw, setup.params.dwa.sim_time, xs.is_some()).await?;
-        if from_action && goal.is_some() {
+        if goal.is_some() {
             let pose = b.map_to_odom().compose(odom);
             server.feedback(now, gm::PoseStamped { header: cv::header(now, "map"), pose: cv::pose(pose, 0.0) }).await?;
         }

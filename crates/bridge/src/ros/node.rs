@@ -112,26 +112,26 @@ impl<T: Stamped> StampInbox<T> {
 
     /// The message stamped `stamp`, waiting up to `timeout`; messages stamped earlier are
     /// dropped (a step's messages come once, or again with the same stamp when resent), later
-    /// ones kept for their own step.
+    /// ones kept for their own step. Another publisher on the topic (a bag played back, a
+    /// second driver) may send any stamp, in any order: a later stamp is no sign that ours was
+    /// lost, so only the timeout ends the wait.
     pub async fn take(&mut self, stamp: (i32, i32), timeout: Duration, what: &str) -> Result<T, RosError> {
+        self.pending.retain(|m| m.stamp() >= stamp);
+        if let Some(i) = self.pending.iter().position(|m| m.stamp() == stamp) {
+            return Ok(self.pending.remove(i).expect("found at i"));
+        }
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            while let Some(m) = self.pending.pop_front() {
-                match m.stamp().cmp(&stamp) {
-                    std::cmp::Ordering::Less => {}
-                    std::cmp::Ordering::Equal => return Ok(m),
-                    std::cmp::Ordering::Greater => {
-                        self.pending.push_front(m);
-                        break;
-                    }
-                }
-            }
-            if self.pending.front().is_some_and(|m| m.stamp() > stamp) {
-                return Err(RosError::Protocol(format!("{what}: a later message came but none stamped {}.{:09}", stamp.0, stamp.1)));
-            }
             let left = deadline.saturating_duration_since(tokio::time::Instant::now());
-            let m = recv(&mut self.rx, left, what).await?;
-            self.pending.push_back(m);
+            let m = recv(&mut self.rx, left, what).await.map_err(|e| match e {
+                RosError::Timeout(t) => RosError::Timeout(format!("{t} stamped {}.{:09}", stamp.0, stamp.1)),
+                e => e,
+            })?;
+            match m.stamp().cmp(&stamp) {
+                std::cmp::Ordering::Less => {}
+                std::cmp::Ordering::Equal => return Ok(m),
+                std::cmp::Ordering::Greater => self.pending.push_back(m),
+            }
         }
     }
 

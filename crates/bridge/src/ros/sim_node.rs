@@ -86,8 +86,21 @@ pub struct SimNode {
     action: mpsc::UnboundedReceiver<std_msgs::Int16>,
     laser_frame: String,
     answered: bool,
+    /// The latched messages published so far (static tf, map, localisation map, episode),
+    /// published again with the first step until the agent answers: roslibrust's latching
+    /// misses a message published while a subscriber's connection is being accepted.
+    latched: Latched,
     /// How long to wait for a peer before failing (s).
     pub timeout: Duration,
+}
+
+/// See [`SimNode::latched`].
+#[derive(Default)]
+struct Latched {
+    tf_static: Option<tf2_msgs::TFMessage>,
+    map: Option<nav_msgs::OccupancyGrid>,
+    amcl_map: Option<nav_msgs::OccupancyGrid>,
+    episode: Option<xhab_msgs::Episode>,
 }
 
 /// One instant of the simulated robot, as the node publishes it.
@@ -165,13 +178,14 @@ impl SimNode {
             node,
             laser_frame: laser_frame.to_string(),
             answered: false,
+            latched: Latched::default(),
             timeout,
         })
     }
 
     /// Publishes the static transforms (latched): base_link -> the laser frame, base_link ->
     /// camera_link -> the depth and RGB optical frames.
-    pub async fn publish_static_tf(&self, m: &Mounts) -> Result<(), RosError> {
+    pub async fn publish_static_tf(&mut self, m: &Mounts) -> Result<(), RosError> {
         let optical = gm::Transform { translation: gm::Vector3 { x: 0.0, y: 0.0, z: 0.0 }, rotation: gm::Quaternion { x: -0.5, y: 0.5, z: -0.5, w: 0.5 } };
         let msg = tf2_msgs::TFMessage {
             transforms: vec![
@@ -181,17 +195,25 @@ impl SimNode {
                 cv::tf(0.0, "camera_link", RGB_OPTICAL_FRAME, optical),
             ],
         };
-        self.tf_static.publish(&msg).await.map_err(|e| perr("/tf_static", e))
+        self.tf_static.publish(&msg).await.map_err(|e| perr("/tf_static", e))?;
+        self.latched.tf_static = Some(msg);
+        Ok(())
     }
 
     /// Publishes the localisation map (latched) on [`AMCL_MAP_TOPIC`].
-    pub async fn publish_amcl_map(&self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
-        self.amcl_map.publish(&cv::occupancy_grid(stamp, map)).await.map_err(|e| perr(AMCL_MAP_TOPIC, e))
+    pub async fn publish_amcl_map(&mut self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
+        let m = cv::occupancy_grid(stamp, map);
+        self.amcl_map.publish(&m).await.map_err(|e| perr(AMCL_MAP_TOPIC, e))?;
+        self.latched.amcl_map = Some(m);
+        Ok(())
     }
 
     /// Publishes the map (latched).
-    pub async fn publish_map(&self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
-        self.map.publish(&cv::occupancy_grid(stamp, map)).await.map_err(|e| perr("map", e))
+    pub async fn publish_map(&mut self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
+        let m = cv::occupancy_grid(stamp, map);
+        self.map.publish(&m).await.map_err(|e| perr("map", e))?;
+        self.latched.map = Some(m);
+        Ok(())
     }
 
     /// Publishes an initial pose estimate on `initialpose` with standard deviations (m, rad).
@@ -248,17 +270,43 @@ impl SimNode {
     }
 
     /// Announces a lock-step episode on [`EPISODE_TOPIC`] (latched).
-    pub async fn publish_episode(&self, e: &xhab_msgs::Episode) -> Result<(), RosError> {
-        self.episode.publish(e).await.map_err(|x| perr(EPISODE_TOPIC, x))
+    pub async fn publish_episode(&mut self, e: &xhab_msgs::Episode) -> Result<(), RosError> {
+        self.episode.publish(e).await.map_err(|x| perr(EPISODE_TOPIC, x))?;
+        self.latched.episode = Some(e.clone());
+        Ok(())
+    }
+
+    /// Publishes the latched messages again (see [`SimNode::latched`]).
+    pub async fn republish_latched(&self) -> Result<(), RosError> {
+        let l = &self.latched;
+        if let Some(m) = &l.tf_static {
+            self.tf_static.publish(m).await.map_err(|e| perr("/tf_static", e))?;
+        }
+        if let Some(m) = &l.map {
+            self.map.publish(m).await.map_err(|e| perr("map", e))?;
+        }
+        if let Some(m) = &l.amcl_map {
+            self.amcl_map.publish(m).await.map_err(|e| perr(AMCL_MAP_TOPIC, e))?;
+        }
+        if let Some(m) = &l.episode {
+            self.episode.publish(m).await.map_err(|e| perr(EPISODE_TOPIC, e))?;
+        }
+        Ok(())
     }
 
     /// One lock-step step: publishes the state (and camera frame), then `xhab/step`, and
     /// waits for the agent's reply to this very step. Until the agent has answered once, the
-    /// step is published again every 25 ms (the first messages of a run may reach no one).
+    /// step is published again every 25 ms (the first messages of a run may reach no one),
+    /// after the latched messages.
     pub async fn lockstep(&mut self, st: &RobotState<'_>, frame: Option<(&CameraParams, &CameraFrame)>, episode: u32, step: u32) -> Result<xhab_msgs::StepReply, RosError> {
         let msg = xhab_msgs::Step { episode, step, stamp: cv::time(st.stamp), scan: st.scan.is_some() };
         let deadline = tokio::time::Instant::now() + self.timeout;
+        let mut resend = false;
         loop {
+            if resend {
+                self.republish_latched().await?;
+            }
+            resend = true;
             self.publish_state(st).await?;
             if let Some((cam, f)) = frame {
                 self.publish_frame(st.stamp, cam, f).await?;

@@ -5,7 +5,6 @@ use xhab_bridge::ros::external::{run_dataset_external, ExternalOptions, MapOdom,
 use xhab_bridge::ros::move_base_client::GoalInterface;
 use xhab_bridge::ros::names::Names;
 use xhab_bridge::nav_agent::{Localization, NavSetup};
-use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_bridge::report::{episodes_csv, BenchReport, RosCheck};
 use crate::report::MapPicture;
 use crate::scene_arg::load_world;
@@ -137,22 +136,9 @@ fn sensor_rig(a: &BenchArgs, renderer: Option<Arc<Renderer>>, camera_height: f64
     Ok(Some(Arc::new(CameraRig { renderer, params, rgb, noise })))
 }
 
-/// The nav agent's setup: parameters (YAML or defaults sized to the robot), map, localisation.
+/// The nav agent's setup: parameters (ROS files, sized to the robot where they give no shape), map, localisation.
 fn nav_setup(a: &BenchArgs, robot: Option<&RobotProfile>, world: &World, renderer: Option<Arc<Renderer>>, camera_height: f64) -> Result<NavSetup> {
-    let params = match &a.nav_params {
-        Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
-        }
-        None => {
-            let mut p = NavParams::default();
-            if let Some(r) = robot {
-                p.global_costmap.robot_radius = r.radius;
-                p.global_costmap.footprint = r.footprint.clone().unwrap_or_default();
-            }
-            p
-        }
-    };
+    let params = super::nav_params(&a.nav_params, robot)?;
     let map = match &a.map {
         Some(m) => Some(Arc::new(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0)),
         None => None,
@@ -229,7 +215,7 @@ fn external_options(a: &BenchArgs, world: &World, robot: Option<&RobotProfile>, 
     Ok(ExternalOptions {
         master: a.ros_master.clone().or_else(|| std::env::var("ROS_MASTER_URI").ok().filter(|s| !s.is_empty())),
         timeout: std::time::Duration::from_secs_f64(a.ros_timeout.max(0.1)),
-        names: Names::plain("xhab_sim"),
+        names: Names::from_args("xhab_sim", &a.ros_args, std::env::var("ROS_NAMESPACE").ok().filter(|s| !s.is_empty()).as_deref())?,
         goal_interface: match a.goal_interface {
             GoalInterfaceArg::Action => GoalInterface::Action,
             GoalInterfaceArg::Simple => GoalInterface::Simple,

@@ -7,7 +7,6 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use xhab_bridge::global_localization::{run_trials, GlobalLocConfig};
 use xhab_bridge::nav_agent::{Localization, NavSetup};
-use xhab_nav::navigator::NavParams;
 use xhab_sim::robot::RobotProfile;
 use xhab_bridge::scan_source::ScanSource;
 use xhab_sim::sensors::RayScene;
@@ -21,14 +20,7 @@ pub fn run(a: &LocalizeArgs) -> Result<ExitCode> {
     let world = load_world(&a.scene, &opts)?;
     let ds = xhab_sim::episode::read_dataset(&a.episodes).with_context(|| format!("reading episodes {}", a.episodes.display()))?;
     let physics = super::bench::physics_setup(&world, &ph)?.context("physics setup")?;
-    let mut params = match &a.nav_params {
-        Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            xhab_nav::navigator::params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
-        }
-        None => NavParams::default(),
-    };
-    params.global_costmap.robot_radius = profile.radius;
+    let mut params = super::nav_params(&a.nav_params, Some(&profile))?;
     if a.particles == 0 {
         anyhow::bail!("--particles must be at least 1");
     }

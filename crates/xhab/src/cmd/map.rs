@@ -10,7 +10,6 @@ use std::process::ExitCode;
 use std::time::Instant;
 use xhab_bridge::explore::{default_start, ExploreParams, ExploreSensors};
 use xhab_nav::map_agreement::map_agreement;
-use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_sim::sensors::RayScene;
@@ -52,14 +51,7 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
 /// `--explore`: the robot explores the floor; writes the map it built, its path drawn on the
 /// picture, and how the map agrees with the one derived from the geometry.
 fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0: Instant) -> Result<ExitCode> {
-    let mut nav = match &a.nav_params {
-        Some(p) => params_from_yaml(&std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?,
-        None => NavParams::default(),
-    };
-    if a.nav_params.is_none() {
-        nav.global_costmap.robot_radius = profile.radius;
-        nav.global_costmap.footprint = profile.footprint.clone().unwrap_or_default();
-    }
+    let nav = super::nav_params(&a.nav_params, Some(&profile))?;
     let start = match &a.start {
         Some(s) => {
             let v = super::navigate::numbers(s, 3, "--start (X,Y,YAW)")?;

@@ -14,6 +14,9 @@ mod scene;
 
 use crate::cli::{Cli, Command};
 use anyhow::Result;
+use xhab_nav::navigator::NavParams;
+use xhab_nav::ros_params::{load_nav_params, ParamFile};
+use xhab_sim::robot::RobotProfile;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::process::ExitCode;
 
@@ -32,6 +35,19 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Ros(c) => ros::run(c),
         Command::Localize(a) => localize::run(a),
     }
+}
+
+/// The navigation parameters of `--nav-params` (defaults without files), their warnings
+/// printed; each costmap the files leave without a shape takes `robot`'s radius and footprint.
+pub fn nav_params(files: &[ParamFile], robot: Option<&RobotProfile>) -> Result<NavParams> {
+    let mut loaded = load_nav_params(files)?;
+    for w in &loaded.warnings {
+        eprintln!("xhab: warning: {w}");
+    }
+    if let Some(r) = robot {
+        loaded.size_to_robot(r.radius, r.footprint.as_deref());
+    }
+    Ok(loaded.params)
 }
 
 /// A progress bar on stderr that hides itself off a terminal or when quiet.

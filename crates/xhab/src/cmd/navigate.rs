@@ -10,7 +10,6 @@ use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_bridge::runner::{run_episode, Outcome, PhysicsSetup, RunConfig};
 use xhab_bridge::agents::AgentKind;
 use xhab_nav::costmap::Costmap;
-use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_sim::env::TaskConfig;
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::physics_env::PhysicsConfig;
@@ -34,13 +33,7 @@ pub fn run(a: &NavigateArgs) -> Result<ExitCode> {
     let world = load_world(&a.scene, &opts)?;
     let floor = world.default_floor().context("no floor")?;
     let z = world.floors[floor].z;
-    let mut params = match &a.nav_params {
-        Some(p) => params_from_yaml(&std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?,
-        None => NavParams::default(),
-    };
-    if a.nav_params.is_none() {
-        params.global_costmap.robot_radius = profile.radius;
-    }
+    let params = super::nav_params(&a.nav_params, Some(&profile))?;
     let map = match &a.map {
         Some(m) => xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0,
         None => world.grid(floor)?.occupancy_grid(),

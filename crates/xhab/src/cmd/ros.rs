@@ -12,7 +12,6 @@ use std::time::Duration;
 use xhab_bridge::nav_agent::{Localization, NavSetup};
 use xhab_bridge::ros::live::{run_live, LiveOptions};
 use xhab_bridge::ros::master::Master;
-use xhab_nav::navigator::{params_from_yaml, NavParams};
 use xhab_sim::sensors::{CameraParams, LidarParams, RayScene};
 use xhab_types::Pose2;
 
@@ -103,13 +102,9 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             run_live(grid, &o)?;
         }
         RosCommand::Nav(a) => {
-            let params = match &a.nav_params {
-                Some(p) => {
-                    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-                    params_from_yaml(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?
-                }
-                None => NavParams::default(),
-            };
+            // Shapes come from the files, else from the robot profile (as `bench --agent nav`).
+            let robot = xhab_sim::robot::RobotProfile::named_or_file(&a.robot).with_context(|| format!("--robot {}", a.robot))?;
+            let params = super::nav_params(&a.nav_params, Some(&robot))?;
             let map = match &a.map {
                 Some(m) => Some(xhab_nav::map_server::load_map(m).with_context(|| format!("loading map {}", m.display()))?.0),
                 None => None,
@@ -147,7 +142,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             rt.block_on(async {
                 let (_tx, rx) = tokio::sync::watch::channel(false);
                 tokio::select! {
-                    r = xhab_bridge::ros::agent_node::run(&master.uri, name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, rx) => r,
+                    r = xhab_bridge::ros::agent_node::run(&master.uri, name, world, xhab_bridge::agents::AgentKind::Oracle, Default::default(), timeout, false, rx) => r,
                     _ = tokio::signal::ctrl_c() => Ok(()),
                 }
             })?;
