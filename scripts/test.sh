@@ -6,12 +6,13 @@ cd "$(dirname "$0")/.."
 
 # System packages the tests need: real ROS 1 from Debian for the interop tests (rosmaster,
 # rospy, rostopic, rosbag and the message definitions rospy loads), and Mesa's Vulkan driver
-# (llvmpipe) so that the wgpu renderer runs headless without a GPU.
+# (llvmpipe) so that the wgpu renderer runs headless without a GPU; python3-venv for the
+# Python package's virtual environment.
 pkgs=(python3-rosmaster python3-rospy python3-rostopic python3-rosbag
       python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs
       python3-tf2-msgs python3-rosgraph-msgs python3-actionlib python3-actionlib-msgs
       python3-tf2-ros python3-move-base-msgs python3-std-srvs
-      mesa-vulkan-drivers)
+      mesa-vulkan-drivers python3-venv)
 need=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || need+=("$p")
@@ -38,3 +39,5 @@ export XHAB_REQUIRE_ROS=1
 export XHAB_REQUIRE_GPU=1
 ./scripts/check_deps.sh
 cargo test --workspace --locked 2>&1
+# The Python package (crates/python): wheel built into .venv, pytest.
+./scripts/python_tests.sh
