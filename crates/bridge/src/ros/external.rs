@@ -196,6 +196,10 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
                         clear = None;
                     }
                 }
+                if i > 0 {
+                    // Again each episode, for subscribers that latching missed (see above).
+                    sim.publish_static_tf(&mounts).await?;
+                }
                 let mut run = episode(&mut sim, &mut client, env, &grid, ep, i, cfg, opts, &mut clock).await?;
                 run.wall_s = t_wall.elapsed().as_secs_f64();
                 Outcome::Ran(run)
@@ -288,6 +292,9 @@ async fn episode(
             break "terminal_state";
         }
         if !client.acknowledged() && last_send.elapsed() > Duration::from_millis(500) {
+            // The stack's subscriptions to a new run's publishers may not have been up: the
+            // pose estimate again (the robot is where it started), then the goal.
+            sim.publish_initialpose(st.stamp, env.pose(), INITIAL_STD_XY, INITIAL_STD_YAW).await?;
             client.resend().await?;
             last_send = Instant::now();
         }
