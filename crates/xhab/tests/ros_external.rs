@@ -178,7 +178,7 @@ fn xhab_ros_nav_benchmarked_as_an_external_stack_matches_the_in_process_nav() {
 
     let master = Master::start().expect("rosmaster starts");
     let nav_log = dir.join("nav.log");
-    let mut nav = Group::spawn(ros_env(xhab().args(["ros", "nav", "--localization", "amcl", "--ros-master", &master.uri]).arg("--map").arg(&map), &master), &nav_log, Duration::from_secs(5));
+    let mut nav = Group::spawn(ros_env(xhab().env("XHAB_LOG", "xhab_bridge=info").args(["ros", "nav", "--localization", "amcl", "--ros-master", &master.uri]).arg("--map").arg(&map), &master), &nav_log, Duration::from_secs(5));
     let ros_json = dir.join("ros.json");
     let (st, out) = run_limited(
         ros_env(xhab().args(["bench", "--scene", scene, "--agent", "ros", "--ros-master", &master.uri, "--ros-timeout", "60", "--quiet"]).arg("--episodes").arg(&eps).arg("--map").arg(&map).arg("--out").arg(&ros_json), &master),
@@ -367,7 +367,7 @@ fn ros_nav_serves_actionlib_move_base_simple_clear_costmaps_and_tf2() {
         Duration::from_secs(5),
     );
     let nav_log = dir.join("nav.log");
-    let mut nav = Group::spawn(ros_env(xhab().args(["ros", "nav", "--localization", "amcl", "--ros-master", &master.uri]), &master), &nav_log, Duration::from_secs(5));
+    let mut nav = Group::spawn(ros_env(xhab().env("XHAB_LOG", "xhab_bridge=info").args(["ros", "nav", "--localization", "amcl", "--ros-master", &master.uri]), &master), &nav_log, Duration::from_secs(5));
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/move_base_clients.py");
     let (st, out) = run_limited(
         ros_env(Command::new(PY).arg(script).args([g.x, g.y, s.x, s.y].map(|v| v.to_string())).args(["base_scan", "-0.032"]), &master),

@@ -156,6 +156,11 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     let mut end_t = 0.0;
     let mut stats = crate::runner::RenderStats::default();
     let ep_index = index as u32;
+    if index > 0 {
+        // Again each episode: a subscriber (rosbag record) whose connection was being accepted
+        // as the run's first came would have missed it (roslibrust's latching).
+        sim.publish_static_tf(&mounts(cfg)).await?;
+    }
     // The step's camera frame (`--sensors`), rendered before the step's state is published;
     // it evaluates to the frame and its camera (for a depth scan source to flatten).
     macro_rules! camera {

@@ -196,6 +196,10 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
                         clear = None;
                     }
                 }
+                if i > 0 {
+                    // Again each episode, for subscribers that latching missed (see above).
+                    sim.publish_static_tf(&mounts).await?;
+                }
                 let mut run = episode(&mut sim, &mut client, env, &grid, ep, i, cfg, opts, &mut clock).await?;
                 run.wall_s = t_wall.elapsed().as_secs_f64();
                 Outcome::Ran(run)
@@ -290,6 +294,9 @@ async fn episode(
             if sent_at.elapsed() > opts.timeout {
                 return Err(RosError::Timeout(format!("the stack did not take the goal of episode {} within {:.0} s (no status for it on move_base/status)", ep.episode_id, opts.timeout.as_secs_f64())));
             }
+            // The stack's subscriptions to a new run's publishers may not have been up: the
+            // pose estimate again (the robot is where it started), then the goal.
+            sim.publish_initialpose(st.stamp, env.pose(), INITIAL_STD_XY, INITIAL_STD_YAW).await?;
             client.resend().await?;
             last_send = Instant::now();
         }

@@ -293,7 +293,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
     let mut brain: Option<NavBrain> = None;
     let mut goal: Option<Point2> = None;
     let mut goal_pending = false;
-    let mut init: Option<(Pose2, (f64, f64))> = None;
+    let mut init: Option<(Pose2, (f64, f64), f64)> = None; // pose, spread, stamp
     let mut last_tick: Option<f64> = None;
     let mut last_odom: Option<(f64, Pose2)> = None;
     let mut pending_scan: Option<sensor_msgs::LaserScan> = None;
@@ -321,9 +321,10 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         if let (Some(_), Some((t, _))) = (&od, last_odom) {
             if now + 1e-9 < t {
                 // A new simulation (another benchmark run) restarted the clock: start over
-                // from the next odometry, keeping the goal and the latest initial pose.
+                // from the next odometry, keeping the goal and an initial pose of the new run.
                 tracing::warn!("ROS time moved backwards ({t:.3} s -> {now:.3} s): the stack starts over");
                 (brain, last_tick, pending_scan, last_odom) = (None, None, None, None);
+                init = init.filter(|i| i.2 <= now + 1e-9);
                 goal_pending = goal.is_some();
             }
         }
@@ -353,7 +354,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         while let Ok(ip) = inits.try_recv() {
             let p = cv::pose2(&ip.pose.pose);
             let spread = (ip.pose.covariance[0].sqrt(), ip.pose.covariance[35].sqrt());
-            init = Some((p, spread));
+            init = Some((p, spread, cv::seconds(&ip.header.stamp)));
             if let (Some(b), Some((_, o))) = (brain.as_mut(), last_odom) {
                 b.set_initial_pose(p, o, spread);
             }
@@ -397,7 +398,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
                     Some(b) => b.set_goal(g, now),
                     None => {
                         let (start, spread) = match init {
-                            Some((p, s)) => (p, Some(s)),
+                            Some((p, s, _)) => (p, Some(s)),
                             None => (odom, None),
                         };
                         let mut b = NavBrain::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
