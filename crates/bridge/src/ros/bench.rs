@@ -59,6 +59,12 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         }
     };
     let t_start = Instant::now();
+    // The first episode's environment (its geodesic field) is built on another thread while
+    // the nodes register and connect, which is mostly waiting on the master.
+    let mut first = ds.episodes.first().map(|ep| {
+        let (w, ep, c) = (world.clone(), ep.clone(), cfg.clone());
+        tokio::task::spawn_blocking(move || make_env(&w, &ep, 0, &c))
+    });
     let mounts = mounts(cfg);
     let mut sim = SimNode::new(uri, Names::plain("xhab_sim"), &mounts.laser_frame, opts.timeout).await?;
     sim.publish_static_tf(&mounts).await?;
@@ -69,7 +75,11 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let mut ran = Vec::new();
     for (i, ep) in ds.episodes.iter().enumerate() {
         let t0 = Instant::now();
-        let o = match make_env(&world, ep, i, cfg) {
+        let made = match first.take() {
+            Some(h) => h.await.map_err(|e| RosError::Node(format!("building the first episode: {e}")))?,
+            None => make_env(&world, ep, i, cfg),
+        };
+        let o = match made {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((made, grid)) => {
                 let r = episode(&mut sim, made, &grid, &world.scene, ep, i, cfg, &mut clock_ns).await;

@@ -32,7 +32,7 @@ pub const STEP_REPLY_TOPIC: &str = "xhab/step_reply";
 /// How often a lock-step step is published again while no reply has ever come: roslibrust
 /// drops what is published before a subscriber's connection is up, so the first step of a
 /// run is repeated (same stamp; receivers take one per stamp) until the agent answers.
-const RESEND: Duration = Duration::from_millis(25);
+const RESEND: Duration = Duration::from_millis(5);
 
 /// A command from the agent side.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -296,7 +296,7 @@ impl SimNode {
 
     /// One lock-step step: publishes the state (and camera frame), then `xhab/step`, and
     /// waits for the agent's reply to this very step. Until the agent has answered once, the
-    /// step is published again every 25 ms (the first messages of a run may reach no one),
+    /// step is published again every 5 ms (the first messages of a run may reach no one),
     /// after the latched messages.
     pub async fn lockstep(&mut self, st: &RobotState<'_>, frame: Option<(&CameraParams, &CameraFrame)>, episode: u32, step: u32) -> Result<xhab_msgs::StepReply, RosError> {
         let msg = xhab_msgs::Step { episode, step, stamp: cv::time(st.stamp), scan: st.scan.is_some() };
