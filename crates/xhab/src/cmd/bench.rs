@@ -115,6 +115,7 @@ fn finish(a: &BenchArgs, world: &World, ds: &Dataset, report: BenchReport, outco
         std::fs::write(csv, episodes_csv(&report.episodes)).with_context(|| format!("writing {}", csv.display()))?;
     }
     print_table(&report.aggregate, report.invalid.count, agent.name());
+    print_ros_ends(&report);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -276,6 +277,24 @@ fn compare_outcomes(a: &[Outcome], b: &[Outcome]) -> RosCheck {
         }
     }
     RosCheck { identical: same_set && other_steps == 0 && max_diff <= 1e-9, max_metric_diff: max_diff, episodes_with_other_steps: other_steps }
+}
+
+/// How an external stack's episodes ended (`--agent ros`): terminal action states and why
+/// each episode stopped (the failures line above counts them by Habitat's causes only).
+fn print_ros_ends(report: &BenchReport) {
+    let mut states: std::collections::BTreeMap<&str, usize> = Default::default();
+    let mut ends: std::collections::BTreeMap<&str, usize> = Default::default();
+    for e in &report.episodes {
+        if let (Some(s), Some(end)) = (e.ros_status.as_deref(), e.ros_end.as_deref()) {
+            *states.entry(s).or_default() += 1;
+            *ends.entry(end).or_default() += 1;
+        }
+    }
+    if states.is_empty() {
+        return;
+    }
+    let list = |m: &std::collections::BTreeMap<&str, usize>| m.iter().map(|(k, n)| format!("{n} {k}")).collect::<Vec<_>>().join(", ");
+    println!("ros: goals ended {}; episodes ended by {}", list(&states), list(&ends));
 }
 
 /// Prints the summary table on stdout.
