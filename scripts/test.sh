@@ -29,6 +29,11 @@ fi
 if [ -z "${XHAB_DATA:-}" ] && [ -d ../shared ]; then
   export XHAB_DATA="$(cd ../shared && pwd)"
 fi
+# Wherever the data exists, the tests that read it must run, not skip (a skip passes
+# silently under cargo): require it unless the caller said otherwise.
+if [ -d "${XHAB_DATA:-../shared}/scenes" ]; then
+  export XHAB_REQUIRE_DATA="${XHAB_REQUIRE_DATA:-1}"
+fi
 if [ "${XHAB_REQUIRE_DATA:-0}" = 1 ] && [ ! -d "${XHAB_DATA:-../shared}/scenes" ]; then
   echo "xhab test: XHAB_REQUIRE_DATA=1 but no shared data at ${XHAB_DATA:-../shared}" >&2
   exit 1
