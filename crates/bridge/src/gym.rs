@@ -20,13 +20,13 @@ use crate::setup::{generate, EnvSetup, SetupError};
 use rayon::prelude::*;
 use std::sync::Arc;
 use xhab_sim::action::Action;
-use xhab_sim::env::{EnvView, Observation, TaskConfig};
+pub use xhab_sim::env::EnvSnapshot;
+use xhab_sim::env::Observation;
 use xhab_sim::episode::{Dataset, Episode};
-use xhab_sim::geodesic::GeodesicField;
 use xhab_sim::metrics::EpisodeMetrics;
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::sensors::CameraFrame;
-use xhab_types::{Pose2, Twist};
+use xhab_types::Twist;
 
 /// Reward of every step (Habitat's `slack_reward`).
 pub const SLACK_REWARD: f64 = -0.01;
@@ -189,38 +189,6 @@ pub struct GymStep {
     pub truncated: bool,
     /// Metrics so far.
     pub info: GymInfo,
-}
-
-/// A snapshot of what an oracle sees of a running episode: pose, task, grid and geodesic
-/// field (the grid and field are shared, so a snapshot is cheap).
-#[derive(Debug, Clone)]
-pub struct EnvSnapshot {
-    pose: Pose2,
-    config: TaskConfig,
-    grid: Arc<NavGrid>,
-    field: Arc<GeodesicField>,
-}
-
-impl EnvSnapshot {
-    /// The snapshot of `env` now.
-    pub fn of(env: &dyn EnvView) -> Self {
-        EnvSnapshot { pose: env.pose(), config: env.config().clone(), grid: env.grid().clone(), field: env.field().clone() }
-    }
-}
-
-impl EnvView for EnvSnapshot {
-    fn pose(&self) -> Pose2 {
-        self.pose
-    }
-    fn config(&self) -> &TaskConfig {
-        &self.config
-    }
-    fn grid(&self) -> &Arc<NavGrid> {
-        &self.grid
-    }
-    fn field(&self) -> &Arc<GeodesicField> {
-        &self.field
-    }
 }
 
 /// The running episode.

@@ -254,3 +254,46 @@ impl EnvView for Env {
         &self.field
     }
 }
+
+/// A snapshot of what an oracle sees of a running episode: pose, task, grid and geodesic
+/// field (the grid and field are shared, so a snapshot is cheap).
+#[derive(Debug, Clone)]
+pub struct EnvSnapshot {
+    pose: Pose2,
+    config: TaskConfig,
+    grid: Arc<NavGrid>,
+    field: Arc<GeodesicField>,
+}
+
+impl EnvSnapshot {
+    /// The snapshot of `env` now.
+    pub fn of(env: &dyn EnvView) -> Self {
+        EnvSnapshot { pose: env.pose(), config: env.config().clone(), grid: env.grid().clone(), field: env.field().clone() }
+    }
+
+    /// A view of an episode known from outside an environment (a ROS agent node's): the
+    /// agent at `pose`, the task, its floor's grid and its goals' field.
+    pub fn new(pose: Pose2, config: TaskConfig, grid: Arc<NavGrid>, field: Arc<GeodesicField>) -> Self {
+        EnvSnapshot { pose, config, grid, field }
+    }
+
+    /// Moves the agent to `pose` (m, rad).
+    pub fn set_pose(&mut self, pose: Pose2) {
+        self.pose = pose;
+    }
+}
+
+impl EnvView for EnvSnapshot {
+    fn pose(&self) -> Pose2 {
+        self.pose
+    }
+    fn config(&self) -> &TaskConfig {
+        &self.config
+    }
+    fn grid(&self) -> &Arc<NavGrid> {
+        &self.grid
+    }
+    fn field(&self) -> &Arc<GeodesicField> {
+        &self.field
+    }
+}

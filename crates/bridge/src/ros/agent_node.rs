@@ -11,35 +11,8 @@ use super::sim_node::{EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPIC};
 use crate::agents::AgentKind;
 use std::sync::Arc;
 use std::time::Duration;
-use xhab_sim::env::{EnvView, TaskConfig};
-use xhab_sim::geodesic::GeodesicField;
-use xhab_sim::navgrid::NavGrid;
+use xhab_sim::env::{EnvSnapshot, EnvView, TaskConfig};
 use xhab_sim::world::World;
-use xhab_types::Pose2;
-
-/// What the agent knows of the episode: the received pose, and the task's privileged state
-/// that an oracle is entitled to (the scene's grid and the goal's geodesic field).
-struct View {
-    pose: Pose2,
-    config: TaskConfig,
-    grid: Arc<NavGrid>,
-    field: Arc<GeodesicField>,
-}
-
-impl EnvView for View {
-    fn pose(&self) -> Pose2 {
-        self.pose
-    }
-    fn config(&self) -> &TaskConfig {
-        &self.config
-    }
-    fn grid(&self) -> &Arc<NavGrid> {
-        &self.grid
-    }
-    fn field(&self) -> &Arc<GeodesicField> {
-        &self.field
-    }
-}
 
 /// Waits for the announcement of episode `index` on `episodes` (older ones are skipped).
 pub(crate) async fn episode_announcement(episodes: &mut tokio::sync::mpsc::UnboundedReceiver<xhab_msgs::Episode>, index: u32, timeout: Duration) -> Result<xhab_msgs::Episode, RosError> {
@@ -70,7 +43,7 @@ async fn run_free(node: RosNode, world: Arc<World>, kind: AgentKind, task: TaskC
     let mut poses = node.subscribe::<gm::PoseStamped>("ground_truth/pose").await?;
     let mut goals = node.subscribe::<gm::PoseStamped>("move_base_simple/goal").await?;
     let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
-    let mut view: Option<View> = None;
+    let mut view: Option<EnvSnapshot> = None;
     let mut pose: Option<gm::PoseStamped> = None;
     loop {
         // A pose asks for an action; a goal starts an episode from the last pose (a
@@ -86,7 +59,7 @@ async fn run_free(node: RosNode, world: Arc<World>, kind: AgentKind, task: TaskC
                         let field = grid.field(&[goal]);
                         agent.reset();
                         tracing::info!("new goal ({:.2}, {:.2})", goal.x, goal.y);
-                        view = Some(View { pose: cv::pose2(&m.pose), config: task.clone(), grid, field });
+                        view = Some(EnvSnapshot::new(cv::pose2(&m.pose), task.clone(), grid, field));
                     }
                     Err(e) => tracing::warn!("goal ignored: the robot at height {z:.3}: {e}"),
                 }
@@ -94,9 +67,9 @@ async fn run_free(node: RosNode, world: Arc<World>, kind: AgentKind, task: TaskC
             _ = shutdown.changed() => return Ok(()),
         }
         let (Some(v), Some(m)) = (view.as_mut(), pose.as_ref()) else { continue };
-        v.pose = cv::pose2(&m.pose);
+        v.set_pose(cv::pose2(&m.pose));
         let a = agent.act(v, None);
-        tracing::debug!("agent: action {a:?} at ({:.2}, {:.2}), connected: {}", v.pose.x, v.pose.y, action.has_connected_clients());
+        tracing::debug!("agent: action {a:?} at ({:.2}, {:.2}), connected: {}", v.pose().x, v.pose().y, action.has_connected_clients());
         action.publish(&super::msgs::std_msgs::Int16 { data: a as i16 }).await.map_err(|e| RosError::Node(format!("publishing on action: {e}")))?;
         if a == xhab_sim::action::Action::Stop {
             view = None;
@@ -110,7 +83,7 @@ async fn run_lockstep(node: RosNode, world: Arc<World>, kind: AgentKind, task: T
     let mut episodes = node.subscribe::<xhab_msgs::Episode>(EPISODE_TOPIC).await?;
     let mut steps = node.subscribe::<xhab_msgs::Step>(STEP_TOPIC).await?;
     let mut agent = kind.build().ok_or_else(|| RosError::Protocol(format!("agent {} is not a discrete agent", kind.name())))?;
-    let mut view: Option<(u32, View)> = None;
+    let mut view: Option<(u32, EnvSnapshot)> = None;
     let mut last: Option<xhab_msgs::StepReply> = None;
     let pub_err = |e: String| RosError::Node(format!("publishing on {STEP_REPLY_TOPIC}: {e}"));
     loop {
@@ -132,11 +105,11 @@ async fn run_lockstep(node: RosNode, world: Arc<World>, kind: AgentKind, task: T
             let goal = cv::pose2(&e.goal.pose).position();
             let field = grid.field(&[goal]);
             agent.reset();
-            view = Some((s.episode, View { pose: cv::pose2(&e.initial_pose.pose.pose), config: task.clone(), grid, field }));
+            view = Some((s.episode, EnvSnapshot::new(cv::pose2(&e.initial_pose.pose.pose), task.clone(), grid, field)));
         }
         let Some((_, v)) = view.as_mut() else { unreachable!("set above") };
         let p = poses.take((s.stamp.secs, s.stamp.nsecs), timeout, "ground truth of this step").await?;
-        v.pose = cv::pose2(&p.pose);
+        v.set_pose(cv::pose2(&p.pose));
         let a = agent.act(v, None);
         let r = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind: xhab_msgs::StepReply::ACTION, action: a as i16, ..Default::default() };
         reply.publish(&r).await.map_err(|e| pub_err(e.to_string()))?;
