@@ -41,19 +41,25 @@ fn rospy_reads_our_topics_records_them_and_drives_the_robot() {
         .spawn()
         .unwrap();
     let _sim = Killed(sim);
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/interop.py");
     let t0 = Instant::now();
+    let (ok, stdout) = rospy_script("interop.py", &master.uri);
+    assert!(ok && stdout.contains("PASS"), "interop script failed after {:.0} s", t0.elapsed().as_secs_f64());
+}
+
+/// Runs `tests/ros/SCRIPT` with Debian's rospy against the master at `uri`; echoes its output
+/// and returns whether it exited 0, and its stdout.
+pub fn rospy_script(script: &str, uri: &str) -> (bool, String) {
     let out = Command::new("/usr/bin/python3")
-        .arg(script)
-        .env("ROS_MASTER_URI", &master.uri)
+        .arg(format!("{}/tests/ros/{script}", env!("CARGO_MANIFEST_DIR")))
+        .env("ROS_MASTER_URI", uri)
         .env("ROS_IP", "127.0.0.1")
         .env("ROS_LOG_DIR", std::env::temp_dir().join("xhab_ros_log"))
         .env("PYTHONPATH", "")
         .output()
         .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success() && stdout.contains("PASS"), "interop script failed after {:.0} s", t0.elapsed().as_secs_f64());
+    (out.status.success(), stdout)
 }
 
 #[test]

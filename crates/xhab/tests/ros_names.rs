@@ -2,8 +2,8 @@
 //! namespaces (`__ns:=`, `$ROS_NAMESPACE`), a remapped topic and a renamed node.
 
 use crate::common::xhab;
-use crate::ros_interop::{ros_available, Killed};
-use std::process::{Command, Stdio};
+use crate::ros_interop::{ros_available, rospy_script, Killed};
+use std::process::Stdio;
 use xhab_bridge::ros::master::Master;
 
 #[test]
@@ -22,17 +22,8 @@ fn two_robots_run_side_by_side_in_their_namespaces() {
     };
     let _r1 = sim(&["--seed", "1", "__ns:=r1"], None);
     let _r2 = sim(&["--seed", "2", "scan:=base_scan", "__name:=sim2"], Some("r2"));
-    let out = Command::new("/usr/bin/python3")
-        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/two_robots.py"))
-        .env("ROS_MASTER_URI", &master.uri)
-        .env("ROS_IP", "127.0.0.1")
-        .env("ROS_LOG_DIR", std::env::temp_dir().join("xhab_ros_log"))
-        .env("PYTHONPATH", "")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success() && stdout.contains("PASS"), "two-robot check failed");
+    let (ok, stdout) = rospy_script("two_robots.py", &master.uri);
+    assert!(ok && stdout.contains("PASS"), "two-robot check failed");
 }
 
 #[test]
