@@ -435,7 +435,21 @@ impl VecPointNav {
         if actions.len() != self.envs.len() {
             return Err(GymError::ActionCount { expected: self.envs.len(), got: actions.len() });
         }
-        let out: Vec<GymStep> = self.each(|i, e, reset| if reset { e.reset(None, None) } else { e.step(actions[i]) }).into_iter().collect::<Result<_, _>>()?;
+        self.advance(|i, e| e.step(actions[i]))
+    }
+
+    /// Holds each environment's `(linear m/s, angular rad/s)` twist for `duration` s under
+    /// physics ([`PointNav::step_twist`]), with the same autoreset as [`VecPointNav::step`].
+    pub fn step_twist(&mut self, twists: &[(f64, f64)], duration: f64) -> Result<Vec<GymStep>, GymError> {
+        if twists.len() != self.envs.len() {
+            return Err(GymError::ActionCount { expected: self.envs.len(), got: twists.len() });
+        }
+        self.advance(|i, e| e.step_twist(twists[i].0, twists[i].1, duration))
+    }
+
+    /// Moves every environment on with `f`, or resets those whose episode ended.
+    fn advance(&mut self, f: impl Fn(usize, &mut PointNav) -> Result<GymStep, GymError> + Sync + Send) -> Result<Vec<GymStep>, GymError> {
+        let out: Vec<GymStep> = self.each(|i, e, reset| if reset { e.reset(None, None) } else { f(i, e) }).into_iter().collect::<Result<_, _>>()?;
         for (r, s) in self.needs_reset.iter_mut().zip(&out) {
             *r = s.terminated || s.truncated;
         }

@@ -1,15 +1,18 @@
 //! Wiring between agents and environments.
 //!
-//! [`agents`]: the agents `xhab bench --agent` can run; [`runner`]: in-process episode runs,
+//! [`agents`]: the agents `xhab bench --agent` can run; [`benchmark`]: a benchmark as data
+//! and [`benchmark::run_bench`], the one entry point every front end calls; [`runner`]: in-process episode runs,
 //! sequential or parallel with identical results; [`setup`]: environments built from the
 //! options the CLI and the Python package share; [`report`]: the benchmark report;
 //! [`gym`]: a Gymnasium-style PointNav environment (reset, step, reward), single or batched.
 #![warn(missing_docs)]
 
 pub mod agents;
+pub mod benchmark;
 pub mod explore;
 pub mod global_localization;
 pub mod gym;
+pub mod map_picture;
 pub mod nav_agent;
 pub mod report;
 pub mod runner;

@@ -15,10 +15,11 @@ use crate::scan_source::ScanSource;
 use xhab_types::{OccupancyGrid, Pose2};
 
 /// Where the navigator believes the robot is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Localization {
     /// The simulator's ground truth.
+    #[default]
     GroundTruth,
     /// Integrated wheel odometry with noise (drifts).
     Odom,

@@ -282,22 +282,34 @@ pub fn run_dataset_with(world: &World, ds: &Dataset, cfg: &RunConfig, agents: &A
 /// Runs every episode of `ds`; results come back in the dataset's order whatever the thread
 /// count. `progress` is called once per finished episode (from any thread).
 pub fn run_dataset(world: &World, ds: &Dataset, cfg: &RunConfig, progress: &(dyn Fn() + Sync)) -> Vec<Outcome> {
+    // Nothing sets the flag, so the run cannot end cancelled.
+    run_dataset_until(world, ds, cfg, &AtomicBool::new(false), progress).unwrap_or_default()
+}
+
+/// [`run_dataset`] that ends early with [`Cancelled`] once `cancel` is set (checked before
+/// each episode; episodes not yet started are skipped).
+pub fn run_dataset_until(world: &World, ds: &Dataset, cfg: &RunConfig, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
     let run = |(i, ep): (usize, &Episode)| {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         let o = run_episode(world, ep, i, cfg);
         progress();
-        o
+        Some(o)
     };
-    if cfg.threads <= 1 {
-        return ds.episodes.iter().enumerate().map(run).collect();
-    }
-    // Grids are built once, before the workers start, so that no worker waits on another.
-    for ep in &ds.episodes {
-        let _ = world.grid_at(ep.start_position.z);
-    }
-    match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
-        Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
-        Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
-    }
+    let outcomes: Vec<Option<Outcome>> = if cfg.threads <= 1 {
+        ds.episodes.iter().enumerate().map(run).collect()
+    } else {
+        // Grids are built once, before the workers start, so that no worker waits on another.
+        for ep in &ds.episodes {
+            let _ = world.grid_at(ep.start_position.z);
+        }
+        match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
+            Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
+            Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
+        }
+    };
+    outcomes.into_iter().map(|o| o.ok_or(Cancelled)).collect()
 }
 
 /// Means over the episodes that ran, and totals.

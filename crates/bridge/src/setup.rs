@@ -219,6 +219,50 @@ pub fn floor_map(world: &World, grid: &NavGrid, laser_height: Option<f64>) -> Re
     })
 }
 
+/// A map that could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteMapError {
+    /// The folder could not be created.
+    #[error("creating folder {}", path.display())]
+    Folder {
+        /// The folder.
+        path: std::path::PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The map_server files could not be written.
+    #[error("writing map {}", path.display())]
+    Map {
+        /// The YAML file.
+        path: std::path::PathBuf,
+        /// Why.
+        #[source]
+        source: xhab_nav::map_server::MapError,
+    },
+    /// The picture could not be written.
+    #[error(transparent)]
+    Picture(#[from] crate::map_picture::PictureError),
+}
+
+/// Writes `OUT.yaml` + `OUT.pgm` (map_server) and the picture `OUT.png` of `map`, creating
+/// the folder; returns the YAML and PNG paths. What `xhab map` and `xhab.make_map` write.
+pub fn write_map(map: &OccupancyGrid, out: &Path) -> Result<(std::path::PathBuf, std::path::PathBuf), WriteMapError> {
+    if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(d).map_err(|source| WriteMapError::Folder { path: d.to_path_buf(), source })?;
+    }
+    let with_ext = |ext: &str| {
+        let mut s = out.as_os_str().to_owned();
+        s.push(".");
+        s.push(ext);
+        std::path::PathBuf::from(s)
+    };
+    let (yaml, png) = (with_ext("yaml"), with_ext("png"));
+    save_map(map, &yaml).map_err(|source| WriteMapError::Map { path: yaml.clone(), source })?;
+    crate::map_picture::MapPicture::new(map).save(&png)?;
+    Ok((yaml, png))
+}
+
 /// A geodesic distance query between two points and what decided it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GeodesicQuery {

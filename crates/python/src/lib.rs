@@ -16,6 +16,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use xhab_bridge::agents::{AgentKind, DiscreteAgent};
+use xhab_bridge::benchmark::{run_bench_until, BenchOptions, ScanKind};
+use xhab_bridge::nav_agent::Localization;
+use xhab_bridge::ros::external::MapOdom;
+use xhab_bridge::ros::move_base_client::GoalInterface;
 use xhab_bridge::gym::{EnvSnapshot, EpisodeSource, GymError, GymInfo, GymObservation, GymStep, PointNav, VecPointNav};
 use xhab_bridge::report::BenchReport;
 use xhab_bridge::runner::{run_dataset_with, Outcome};
@@ -441,6 +445,18 @@ impl VecCore {
         Ok((stacked(py, &r, self.shape)?, r.iter().map(|s| s.reward).collect(), r.iter().map(|s| s.terminated).collect(), r.iter().map(|s| s.truncated).collect(), infos))
     }
 
+    /// Holds each environment's `(linear, angular)` twist for `duration` s under physics.
+    #[allow(clippy::type_complexity)]
+    fn step_twist<'py>(&mut self, py: Python<'py>, twists: Vec<(f64, f64)>, duration: f64) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Bound<'py, PyList>)> {
+        let envs = &mut self.envs;
+        let r = py.detach(|| envs.step_twist(&twists, duration)).map_err(gym_err)?;
+        let infos = PyList::empty(py);
+        for s in &r {
+            infos.append(info_dict(py, &s.info)?)?;
+        }
+        Ok((stacked(py, &r, self.shape)?, r.iter().map(|s| s.reward).collect(), r.iter().map(|s| s.terminated).collect(), r.iter().map(|s| s.truncated).collect(), infos))
+    }
+
     /// What an oracle sees in environment `i` now.
     fn view(&self, i: usize) -> PyResult<Option<EpisodeView>> {
         let e = self.envs.envs().get(i).ok_or_else(|| PyValueError::new_err(format!("no environment {i}")))?;
@@ -526,44 +542,28 @@ fn run_report(py: Python<'_>, s: &EnvSetup, ds: &Dataset, threads: usize, seed: 
     let cfg = s.run_config(AgentKind::Oracle, threads, seed);
     let t0 = Instant::now();
     let (world, cfg_ref, cancel) = (&s.world, &cfg, &shared.cancel);
-    let run = move || std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_dataset_with(world, ds, cfg_ref, make, cancel, &|| {})));
+    let run = move || run_dataset_with(world, ds, cfg_ref, make, cancel, &|| {});
     let result = if inline {
         // On this thread: a Python agent's calls check for Ctrl-C at every step.
-        Some(py.detach(run))
+        py.detach(move || std::panic::catch_unwind(std::panic::AssertUnwindSafe(run))).ok()
     } else {
-        // In a worker thread, while this one (the main thread, where Python runs signal
-        // handlers) waits without the GIL and checks for Ctrl-C every 50 ms.
-        let (tx, mut rx) = std::sync::mpsc::channel();
-        std::thread::scope(|scope| {
-            scope.spawn(move || {
-                let _ = tx.send(run());
-            });
-            loop {
-                let (back, r) = py.detach(move || {
-                    let r = rx.recv_timeout(Duration::from_millis(50));
-                    (rx, r)
-                });
-                rx = back;
-                match r {
-                    Ok(r) => break Some(r),
-                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
-                        if let Err(e) = py.check_signals() {
-                            shared.fail(e);
-                        }
-                    }
-                    Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break None,
-                }
+        // In a worker thread, while this one checks for Ctrl-C.
+        match interruptible(py, cancel, run) {
+            Ok(r) => Some(r),
+            Err(e) => {
+                shared.fail(e);
+                None
             }
-        })
+        }
     };
     let wall = t0.elapsed().as_secs_f64();
     if let Some(e) = shared.error.lock().ok().and_then(|mut g| g.take()) {
         return Err(e);
     }
     let outcomes: Vec<Outcome> = match result {
-        Some(Ok(Ok(o))) => o,
-        Some(Ok(Err(_))) => return Err(PyKeyboardInterrupt::new_err("the evaluation was cancelled")),
-        Some(Err(_)) | None => return Err(PyRuntimeError::new_err("internal error: the run stopped unexpectedly")),
+        Some(Ok(o)) => o,
+        Some(Err(_)) => return Err(PyKeyboardInterrupt::new_err("the evaluation was cancelled")),
+        None => return Err(PyRuntimeError::new_err("internal error: the run stopped unexpectedly")),
     };
     let report = BenchReport::new(&outcomes, wall, &cfg, agent_name, &s.scene, episodes_file, false);
     report.to_json().map_err(|e| PyRuntimeError::new_err(e.to_string()))
@@ -598,29 +598,121 @@ fn evaluate(py: Python<'_>, agent: Bound<'_, PyAny>, scene: &str, episodes: Path
     run_report(py, &s, &ds, threads, seed, agent_name, &episodes.display().to_string(), &shared, &make, threads <= 1)
 }
 
-/// Benchmarks a built-in agent (`oracle`) as `xhab bench` does; returns the report's JSON.
-#[pyfunction(name = "bench")]
-#[pyo3(signature = (scene, episodes, agent, threads, seed, options))]
-fn bench_builtin(py: Python<'_>, scene: &str, episodes: PathBuf, agent: &str, threads: usize, seed: u64, options: &Bound<'_, PyDict>) -> PyResult<String> {
-    let kind = match agent {
-        "oracle" => AgentKind::Oracle,
-        "nav" | "ros" => return Err(PyValueError::new_err(format!("agent '{agent}': not available from Python yet (use the xhab CLI)"))),
-        _ => return Err(PyValueError::new_err(format!("agent '{agent}': unknown (oracle)"))),
-    };
-    let s = build_setup(py, scene, options)?;
-    let ds = py.detach(|| setup::read_episodes(&episodes)).map_err(|e| py_err(&e))?;
-    let shared = Arc::new(Shared::default());
-    let make = |_: usize| kind.build().unwrap_or_else(|| Box::new(Stopper));
-    run_report(py, &s, &ds, threads, seed, kind.name(), &episodes.display().to_string(), &shared, &make, false)
+/// The keys `xhab.bench` takes beyond the environment's (the nav stack and an external stack).
+const BENCH_KEYS: &[&str] = &["localization", "map", "nav_params", "scan_source", "ros_master", "launch", "episode_timeout", "map_odom", "goal_interface", "controller_frequency"];
+
+/// The nav and external-stack options of `xhab.bench` (unknown keys are a `TypeError`).
+fn bench_extras(o: &mut BenchOptions, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    for k in d.keys() {
+        let k: String = k.extract()?;
+        if !BENCH_KEYS.contains(&k.as_str()) {
+            return Err(PyTypeError::new_err(format!("unknown option '{k}' (options: {})", BENCH_KEYS.join(", "))));
+        }
+    }
+    if let Some(l) = opt::<String>(d, "localization")? {
+        o.nav.localization = match l.as_str() {
+            "ground-truth" | "ground_truth" => Localization::GroundTruth,
+            "odom" => Localization::Odom,
+            "amcl" => Localization::Amcl,
+            _ => return Err(PyValueError::new_err(format!("localization: unknown '{l}' (ground-truth, odom, amcl)"))),
+        };
+    }
+    o.nav.map = opt(d, "map")?;
+    for f in opt::<Vec<String>>(d, "nav_params")?.unwrap_or_default() {
+        o.nav.params.push(f.parse().map_err(|e: xhab_nav::ros_params::ParamError| PyValueError::new_err(format!("nav_params: {e}")))?);
+    }
+    if let Some(src) = d.get_item("scan_source")? {
+        o.nav.scans = match src.extract::<Option<String>>()?.as_deref() {
+            None | Some("none") => None,
+            Some("lidar") => Some(ScanKind::Lidar),
+            Some("depth") => Some(ScanKind::Depth),
+            Some(x) => return Err(PyValueError::new_err(format!("scan_source: unknown '{x}' (lidar, depth, None)"))),
+        };
+    }
+    let e = &mut o.external;
+    e.master = opt(d, "ros_master")?;
+    o.ros_master = e.master.clone();
+    e.launch = opt(d, "launch")?;
+    e.episode_timeout = opt(d, "episode_timeout")?.unwrap_or(e.episode_timeout);
+    e.controller_frequency = opt(d, "controller_frequency")?.unwrap_or(e.controller_frequency);
+    if let Some(m) = opt::<String>(d, "map_odom")? {
+        e.map_odom = match m.as_str() {
+            "stack" => MapOdom::Stack,
+            "ground-truth" | "ground_truth" => MapOdom::GroundTruth,
+            _ => return Err(PyValueError::new_err(format!("map_odom: unknown '{m}' (stack, ground-truth)"))),
+        };
+    }
+    if let Some(g) = opt::<String>(d, "goal_interface")? {
+        e.goal_interface = match g.as_str() {
+            "action" => GoalInterface::Action,
+            "simple" => GoalInterface::Simple,
+            _ => return Err(PyValueError::new_err(format!("goal_interface: unknown '{g}' (action, simple)"))),
+        };
+    }
+    Ok(())
 }
 
-/// An agent that stops at once (never used: only the oracle is offered).
-struct Stopper;
-
-impl DiscreteAgent for Stopper {
-    fn act(&mut self, _env: &dyn EnvView, _frame: Option<&CameraFrame>) -> Action {
-        Action::Stop
+/// Runs `f` in a worker thread while this one (the main thread, where Python runs signal
+/// handlers) waits without the GIL, checking for Ctrl-C every 50 ms; on an exception from a
+/// signal handler `cancel` is set, `f` is awaited and the exception returned.
+fn interruptible<T: Send>(py: Python<'_>, cancel: &AtomicBool, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let (tx, mut rx) = std::sync::mpsc::channel();
+    let mut interrupted = None;
+    let r = std::thread::scope(|scope| {
+        scope.spawn(move || {
+            let _ = tx.send(std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+        });
+        loop {
+            let (back, r) = py.detach(move || {
+                let r = rx.recv_timeout(Duration::from_millis(50));
+                (rx, r)
+            });
+            rx = back;
+            match r {
+                Ok(r) => break Some(r),
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                    if let Err(e) = py.check_signals() {
+                        cancel.store(true, Ordering::Relaxed);
+                        interrupted.get_or_insert(e);
+                    }
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break None,
+            }
+        }
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
     }
+    match r {
+        Some(Ok(v)) => Ok(v),
+        Some(Err(_)) | None => Err(PyRuntimeError::new_err("internal error: the run stopped unexpectedly")),
+    }
+}
+
+/// Benchmarks a built-in agent (`oracle`, `nav`, or an external ROS stack with `ros`) as
+/// `xhab bench` does, through the same library call; returns the report's JSON.
+#[pyfunction(name = "bench")]
+#[pyo3(signature = (scene, episodes, agent, threads, seed, options, extras))]
+#[allow(clippy::too_many_arguments)]
+fn bench_builtin(py: Python<'_>, scene: &str, episodes: PathBuf, agent: &str, threads: usize, seed: u64, options: &Bound<'_, PyDict>, extras: &Bound<'_, PyDict>) -> PyResult<String> {
+    let mut o = BenchOptions::new(scene, episodes);
+    o.agent = match agent {
+        "oracle" => AgentKind::Oracle,
+        "nav" => AgentKind::Nav,
+        "ros" => AgentKind::Ros,
+        _ => return Err(PyValueError::new_err(format!("agent '{agent}': unknown (oracle, nav, ros)"))),
+    };
+    o.env = env_options(scene, options)?;
+    o.threads = threads.max(1);
+    o.seed = seed;
+    bench_extras(&mut o, extras)?;
+    let cancel = AtomicBool::new(false);
+    let run = interruptible(py, &cancel, || run_bench_until(&o, &cancel, &|| {}))?.map_err(|e| py_err(&e))?;
+    for w in &run.warnings {
+        let msg = std::ffi::CString::new(w.replace('\0', " ")).unwrap_or_default();
+        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &msg, 1)?;
+    }
+    run.report.to_json().map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// Geodesic distance between Habitat-frame points in a scene (m; inf when not connected).
@@ -662,31 +754,23 @@ fn ensure_parent(p: &Path) -> Result<(), String> {
     }
 }
 
-/// Writes the map_server map (`OUT.yaml` + `OUT.pgm`) of a floor, as `xhab map` does (without
-/// its picture); returns `(yaml path, width, height, resolution)`.
+/// Writes the map_server map (`OUT.yaml` + `OUT.pgm`) and the picture `OUT.png` of a floor,
+/// as `xhab map` does; returns `(yaml path, png path, width, height, resolution)`.
 #[pyfunction]
 #[pyo3(signature = (scene, out, resolution, floor, laser_height, options))]
-fn make_map(py: Python<'_>, scene: &str, out: PathBuf, resolution: f64, floor: &str, laser_height: Option<f64>, options: &Bound<'_, PyDict>) -> PyResult<(String, usize, usize, f64)> {
+#[allow(clippy::type_complexity)]
+fn make_map(py: Python<'_>, scene: &str, out: PathBuf, resolution: f64, floor: &str, laser_height: Option<f64>, options: &Bound<'_, PyDict>) -> PyResult<(String, String, usize, usize, f64)> {
     let mut opts = env_options(scene, options)?;
     opts.scene_options.cell_size = resolution;
-    py.detach(|| -> Result<(String, usize, usize, f64), Box<dyn Error + Send + Sync>> {
+    py.detach(|| -> Result<(String, String, usize, usize, f64), Box<dyn Error + Send + Sync>> {
         let world = setup::load_world(&opts.scene, &opts.scene_options)?;
         let i = setup::floor_index(&world, floor)?;
         let grid = world.grid(i)?;
         let map = setup::floor_map(&world, &grid, laser_height)?;
-        ensure_parent(&out)?;
-        let mut yaml = out.as_os_str().to_owned();
-        yaml.push(".yaml");
-        let yaml = PathBuf::from(yaml);
-        xhab_nav_save(&map, &yaml)?;
-        Ok((yaml.display().to_string(), map.width, map.height, map.resolution))
+        let (yaml, png) = setup::write_map(&map, &out)?;
+        Ok((yaml.display().to_string(), png.display().to_string(), map.width, map.height, map.resolution))
     })
     .map_err(|e| py_err(&*e))
-}
-
-/// Saves a map through the bridge's re-export of the nav stack's map_server writer.
-fn xhab_nav_save(map: &xhab_types::OccupancyGrid, yaml: &Path) -> Result<(), String> {
-    setup::save_map(map, yaml).map_err(|e| format!("writing map {}: {e}", yaml.display()))
 }
 
 /// The native module.

@@ -5,7 +5,6 @@
 
 mod cli;
 mod cmd;
-mod report;
 mod scene_arg;
 
 use clap::Parser;

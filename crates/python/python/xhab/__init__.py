@@ -7,7 +7,7 @@
 - ``VectorPointNavEnv``: n environments stepped in parallel in Rust (``gymnasium.vector``
   conventions, next-step autoreset).
 - ``evaluate(agent, scene, episodes)``: any Python agent on every episode, with the same
-  report as ``xhab bench --out``; ``bench`` runs the built-in oracle.
+  report as ``xhab bench --out``; ``bench`` runs a built-in agent (oracle, nav, ros).
 - ``geodesic_distance``, ``generate_episodes``, ``make_map``: the CLI's other jobs.
 
 Scenes are ``.glb``/``.gltf``/``.obj``/``.ply`` files or ``procedural[:SEED]``. Points are in
@@ -57,10 +57,35 @@ def evaluate(agent, scene, episodes, *, physics=False, robot="habitat", sensors=
     return _json.loads(report)
 
 
+_BENCH_EXTRAS = ("localization", "map", "nav_params", "scan_source", "ros_master", "launch", "episode_timeout",
+                 "map_odom", "goal_interface", "controller_frequency")
+
+
 def bench(scene, episodes, *, agent="oracle", physics=False, robot="habitat", sensors=(), threads=1, seed=0, **kwargs):
-    """``xhab bench`` with a built-in agent (``oracle``): returns the report as a dict."""
+    """``xhab bench`` with a built-in agent, through the same library call as the CLI;
+    returns the report (the dict ``xhab bench --out`` writes).
+
+    ``agent``: ``"oracle"`` (Habitat's shortest-path follower), ``"nav"`` (xhab's native
+    stack: costmaps, planner, DWA, navigator; it drives the ``robot`` under physics) or
+    ``"ros"`` (an external ROS 1 stack, as ``xhab bench --agent ros``). Navigation keywords:
+    ``localization`` (``"ground-truth"``, ``"odom"``, ``"amcl"``), ``map`` (map_server YAML),
+    ``nav_params`` (ROS parameter files, ``"FILE[@NAMESPACE]"``, layered), ``scan_source``
+    (``"lidar"``, ``"depth"`` or ``None`` for no scans). External stack keywords:
+    ``ros_master``, ``launch``, ``episode_timeout``, ``map_odom``, ``goal_interface``,
+    ``controller_frequency``. Other keywords are ``PointNavEnv``'s. Unknown nav parameters
+    come back as ``UserWarning``s.
+    """
+    extras = {k: kwargs.pop(k) for k in list(kwargs) if k in _BENCH_EXTRAS}
+    if "nav_params" in extras and isinstance(extras["nav_params"], (str, _os.PathLike)):
+        extras["nav_params"] = [extras["nav_params"]]
+    if "nav_params" in extras:
+        extras["nav_params"] = [_os.fspath(f) for f in extras["nav_params"]]
+    if extras.get("map") is not None:
+        extras["map"] = _os.fspath(extras["map"])
+    # The nav and ros agents drive with velocities: always under physics, with ``robot``.
+    physics = physics or agent in ("nav", "ros")
     opts = _options(physics=physics, robot=robot, sensors=sensors, **kwargs)
-    return _json.loads(_xhab.bench(str(scene), _os.fspath(episodes), str(agent), int(threads), int(seed), opts))
+    return _json.loads(_xhab.bench(str(scene), _os.fspath(episodes), str(agent), int(threads), int(seed), opts, extras))
 
 
 def geodesic_distance(scene, a, b, **kwargs):
@@ -80,8 +105,8 @@ def generate_episodes(scene, count, seed=0, out=None, *, floor="auto", scene_id=
 
 
 def make_map(scene, out, *, resolution=0.05, floor="auto", laser_height=None, **kwargs):
-    """Writes the ROS map_server map ``OUT.yaml`` + ``OUT.pgm`` of a floor, as ``xhab map``
-    does (without its PNG picture). Returns ``{"yaml", "width", "height", "resolution"}``."""
-    yaml, w, h, r = _xhab.make_map(str(scene), _os.fspath(out), float(resolution), str(floor),
-                                   None if laser_height is None else float(laser_height), _options(**kwargs))
-    return {"yaml": yaml, "width": w, "height": h, "resolution": r}
+    """Writes the ROS map_server map ``OUT.yaml`` + ``OUT.pgm`` of a floor and its picture
+    ``OUT.png``, as ``xhab map`` does. Returns ``{"yaml", "png", "width", "height", "resolution"}``."""
+    yaml, png, w, h, r = _xhab.make_map(str(scene), _os.fspath(out), float(resolution), str(floor),
+                                        None if laser_height is None else float(laser_height), _options(**kwargs))
+    return {"yaml": yaml, "png": png, "width": w, "height": h, "resolution": r}

@@ -118,14 +118,16 @@ class PointNavEnv(gym.Env):
     ``steps``, ``path_length``, ``called_stop``, ``episode_id``.
     """
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
     def __init__(self, scene, episodes=None, *, physics=False, robot="habitat", sensors=("depth",), resolution=256,
                  hfov=90, seed=0, floor="auto", render_mode=None, **kwargs):
         super().__init__()
-        if render_mode is not None:
-            raise ValueError(f"render_mode: {render_mode!r} is not supported (observations carry the images)")
         sensors = options(sensors=sensors)["sensors"]
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode: {render_mode!r} is not supported (None or 'rgb_array')")
+        if render_mode == "rgb_array" and not sensors:
+            raise ValueError("render_mode='rgb_array' shows the camera: give sensors=('depth',) or ('depth', 'rgb')")
         opts = options(physics=physics, robot=robot, sensors=sensors, resolution=resolution, hfov=hfov, **kwargs)
         self._core = _xhab.Core(str(scene), None if episodes is None else os.fspath(episodes), str(floor),
                                 _seed(seed), opts)
@@ -133,10 +135,24 @@ class PointNavEnv(gym.Env):
         self._shape = self._core.image_shape
         self.observation_space = _observation_space(self._sensors, self._shape, self._core.max_depth, self._core.noisy_depth)
         self.action_space = spaces.Discrete(4)
-        self.render_mode = None
+        self.render_mode = render_mode
+        self._last = None
 
     def _obs(self, raw):
-        return observation(raw, self._shape, self._sensors)
+        self._last = observation(raw, self._shape, self._sensors)
+        return self._last
+
+    def render(self):
+        """With ``render_mode="rgb_array"``: the camera's last image as uint8 HxWx3 (the RGB
+        image, or depth as grey, near = bright, no return = black); otherwise None."""
+        if self.render_mode != "rgb_array" or self._last is None:
+            return None
+        if "rgb" in self._last:
+            return self._last["rgb"].copy()
+        d = self._last["depth"][..., 0]
+        top = float(self._core.max_depth or 10.0)
+        g = np.where(d > 0, 255.0 * (1.0 - np.clip(d / top, 0.0, 1.0)), 0.0).astype(np.uint8)
+        return np.repeat(g[..., None], 3, axis=2)
 
     def reset(self, *, seed=None, options=None):
         """Starts the next episode, or ``options["episode_id"]``; ``seed`` re-seeds the
@@ -245,6 +261,17 @@ class VectorPointNavEnv(gym.vector.VectorEnv):
 
     def step(self, actions):
         raw, rewards, terminated, truncated, infos = self._core.step(list(np.asarray(actions).reshape(-1)))
+        return (self._obs(raw), np.array(rewards, dtype=np.float64), np.array(terminated, dtype=bool),
+                np.array(truncated, dtype=bool), self._infos(infos))
+
+    def step_twist(self, twists, duration):
+        """Holds each environment's ``(linear m/s, angular rad/s)`` velocities (an ``(n, 2)``
+        array) for ``duration`` s under physics (``physics=True``), with ``step``'s autoreset."""
+        tw = np.asarray(twists, dtype=np.float64)
+        if tw.size != 2 * self.num_envs:
+            raise ValueError(f"twists: expected {self.num_envs} (linear, angular) pairs, got an array of shape {tw.shape}")
+        tw = tw.reshape(self.num_envs, 2)
+        raw, rewards, terminated, truncated, infos = self._core.step_twist([(float(v), float(w)) for v, w in tw], float(duration))
         return (self._obs(raw), np.array(rewards, dtype=np.float64), np.array(terminated, dtype=bool),
                 np.array(truncated, dtype=bool), self._infos(infos))
 

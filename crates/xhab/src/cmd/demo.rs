@@ -1,7 +1,7 @@
 //! `xhab demo`: the whole pipeline on the built-in procedural house, no files needed.
 
 use crate::cli::DemoArgs;
-use crate::report::MapPicture;
+use xhab_bridge::map_picture::MapPicture;
 use anyhow::{Context, Result};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -39,7 +39,7 @@ pub fn run(a: &DemoArgs, quiet: bool) -> Result<ExitCode> {
     let threads = a.threads.unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1));
     let cfg = RunConfig { agent: AgentKind::Oracle, task: TaskConfig::default(), threads, record_trajectories: true, sensors: None, physics: None, seed: a.seed, nav: None };
     let world = std::sync::Arc::new(world);
-    let (report, outcomes) = super::bench::bench(&world, &ds, &cfg, &scene_id, &eps_path.display().to_string(), quiet, super::bench::Transport::InProcess)?;
+    let (report, outcomes) = super::bench::bench_loaded(&world, &ds, &cfg, &scene_id, &eps_path.display().to_string(), quiet)?;
     let results = a.out.join("results.json");
     std::fs::write(&results, serde_json::to_string_pretty(&report)? + "\n").with_context(|| format!("writing {}", results.display()))?;
     // One picture with every trajectory.

@@ -2,7 +2,7 @@
 //! geometry or (`--explore`) built by a robot exploring it.
 
 use crate::cli::{CameraOpts, MapArgs};
-use crate::report::MapPicture;
+use xhab_bridge::map_picture::MapPicture;
 use crate::scene_arg::{floor_index, load_world};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -123,19 +123,7 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
 
 /// Writes OUT.yaml + OUT.pgm (map_server) and OUT.png; returns the YAML and PNG paths.
 pub fn write_map(map: &OccupancyGrid, out: &Path) -> Result<(PathBuf, PathBuf)> {
-    super::ensure_parent(out)?;
-    let yaml = with_ext(out, "yaml");
-    let png = with_ext(out, "png");
-    xhab_nav::map_server::save_map(map, &yaml).with_context(|| format!("writing map {}", yaml.display()))?;
-    MapPicture::new(map).save(&png)?;
-    Ok((yaml, png))
-}
-
-fn with_ext(p: &Path, ext: &str) -> PathBuf {
-    let mut s = p.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
+    Ok(xhab_bridge::setup::write_map(map, out)?)
 }
 
 fn counts(m: &OccupancyGrid) -> (usize, usize) {

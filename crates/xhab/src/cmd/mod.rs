@@ -15,7 +15,7 @@ mod scene;
 use crate::cli::{Cli, Command};
 use anyhow::Result;
 use xhab_nav::navigator::NavParams;
-use xhab_nav::ros_params::{load_nav_params, ParamFile};
+use xhab_nav::ros_params::ParamFile;
 use xhab_sim::robot::RobotProfile;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::process::ExitCode;
@@ -40,14 +40,11 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
 /// The navigation parameters of `--nav-params` (defaults without files), their warnings
 /// printed; each costmap the files leave without a shape takes `robot`'s radius and footprint.
 pub fn nav_params(files: &[ParamFile], robot: Option<&RobotProfile>) -> Result<NavParams> {
-    let mut loaded = load_nav_params(files)?;
-    for w in &loaded.warnings {
+    let (params, warnings) = xhab_bridge::benchmark::nav_params(files, robot)?;
+    for w in &warnings {
         eprintln!("xhab: warning: {w}");
     }
-    if let Some(r) = robot {
-        loaded.size_to_robot(r.radius, r.footprint.as_deref());
-    }
-    Ok(loaded.params)
+    Ok(params)
 }
 
 /// A progress bar on stderr that hides itself off a terminal or when quiet.

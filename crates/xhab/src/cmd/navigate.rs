@@ -1,7 +1,7 @@
 //! `xhab navigate`: one run of the native stack under physics, drawn over the map.
 
 use crate::cli::NavigateArgs;
-use crate::report::MapPicture;
+use xhab_bridge::map_picture::MapPicture;
 use crate::scene_arg::load_world;
 use anyhow::{bail, Context, Result};
 use std::process::ExitCode;

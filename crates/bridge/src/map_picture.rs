@@ -1,9 +1,19 @@
 //! Pictures: top-down maps with trajectories, as PNG.
 
-use anyhow::{Context, Result};
 use image::{Rgb, RgbImage};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use xhab_types::{OccupancyGrid, Point2, GRID_FREE, GRID_UNKNOWN};
+
+/// A picture that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("writing {}", path.display())]
+pub struct PictureError {
+    /// The file.
+    pub path: PathBuf,
+    /// Why.
+    #[source]
+    pub source: image::ImageError,
+}
 
 /// A top-down picture of a map, at `scale` pixels per cell, north (+y) up.
 pub struct MapPicture<'a> {
@@ -98,7 +108,12 @@ impl<'a> MapPicture<'a> {
     }
 
     /// Writes the picture as PNG.
-    pub fn save(&self, path: &Path) -> Result<()> {
-        self.img.save(path).with_context(|| format!("writing {}", path.display()))
+    pub fn save(&self, path: &Path) -> Result<(), PictureError> {
+        self.img.save(path).map_err(|source| PictureError { path: path.to_path_buf(), source })
+    }
+
+    /// The picture's pixels (RGB, rows top to bottom).
+    pub fn image(&self) -> &RgbImage {
+        &self.img
     }
 }
