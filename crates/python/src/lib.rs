@@ -619,7 +619,7 @@ fn bench_extras(o: &mut BenchOptions, d: &Bound<'_, PyDict>) -> PyResult<()> {
     }
     o.nav.map = opt(d, "map")?;
     for f in opt::<Vec<String>>(d, "nav_params")?.unwrap_or_default() {
-        o.nav.params.push(f.parse().map_err(|e: xhab_nav::ros_params::ParamError| PyValueError::new_err(format!("nav_params: {e}")))?);
+        o.nav.params.push(f.parse().map_err(|e: xhab_bridge::benchmark::ParamError| PyValueError::new_err(format!("nav_params: {e}")))?);
     }
     if let Some(src) = d.get_item("scan_source")? {
         o.nav.scans = match src.extract::<Option<String>>()?.as_deref() {

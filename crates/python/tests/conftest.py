@@ -38,7 +38,7 @@ def _cli():
 
 @pytest.fixture(scope="session")
 def cli_bench(tmp_path_factory):
-    """Runs ``xhab bench --agent oracle`` and returns its JSON report."""
+    """Runs ``xhab bench --agent AGENT`` (oracle unless given) and returns its JSON report."""
     exe = _cli()
     if exe is None or not exe.exists():
         msg = "no xhab CLI (set XHAB_BIN or build it with `cargo build -p xhab`)"
@@ -47,9 +47,9 @@ def cli_bench(tmp_path_factory):
         pytest.skip("SKIPPED LOUDLY: " + msg)
     out_dir = tmp_path_factory.mktemp("cli")
 
-    def run(episodes, *args):
+    def run(episodes, *args, agent="oracle"):
         out = out_dir / f"bench{len(list(out_dir.iterdir()))}.json"
-        subprocess.run([str(exe), "--quiet", "bench", "--scene", SCENE, "--episodes", str(episodes), "--agent", "oracle",
+        subprocess.run([str(exe), "--quiet", "bench", "--scene", SCENE, "--episodes", str(episodes), "--agent", agent,
                         "--out", str(out), *args], check=True, capture_output=True)
         return json.loads(out.read_text())
 

@@ -16,10 +16,12 @@ SMALL = dict(resolution=16, renderer="raster")
     dict(sensors=()),
     dict(sensors=("depth",), **SMALL),
     dict(sensors=("depth", "rgb"), physics=True, **SMALL),
+    dict(sensors=("depth", "rgb"), render_mode="rgb_array", **SMALL),
 ])
 def test_check_env(kwargs, episodes):
-    check_env(xhab.PointNavEnv(SCENE, **kwargs), skip_render_check=True)
-    check_env(xhab.PointNavEnv(SCENE, episodes, **kwargs), skip_render_check=True)
+    check = "render_mode" not in kwargs
+    check_env(xhab.PointNavEnv(SCENE, **kwargs), skip_render_check=check)
+    check_env(xhab.PointNavEnv(SCENE, episodes, **kwargs), skip_render_check=check)
 
 
 def test_observations_as_habitat_names_them():
@@ -103,9 +105,8 @@ def test_step_twist_under_physics():
     x0, y0, yaw0 = env.view().pose
     obs, reward, terminated, truncated, info = env.step_twist(0.0, 0.5, 1.0)
     assert abs(np.angle(np.exp(1j * (env.view().pose[2] - yaw0))) - 0.5) < 0.05
-    # Steps count control periods of simulated time, rounded up (PhysicsEnv::drive); the
-    # accumulated physics time of 1 s can land a hair above 1.0.
-    assert not terminated and info["steps"] in (1, 2)
+    # Steps count control periods of simulated time begun (PhysicsEnv::drive): 1 s is one.
+    assert not terminated and info["steps"] == 1
     obs, *_ = env.step_twist(0.2, 0.0, 0.5)
     assert 0.0 < np.hypot(env.view().pose[0] - x0, env.view().pose[1] - y0) < 0.2
     obs, reward, terminated, truncated, info = env.step(0)
@@ -127,4 +128,29 @@ def test_geodesic_distance_matches_episode_file(episodes, tmp_path):
     assert xhab.geodesic_distance(SCENE, [100, 0, 100], [0, 0, 0]) == float("inf")
     m = xhab.make_map(SCENE, tmp_path / "maps" / "house")
     assert (tmp_path / "maps" / "house.yaml").exists() and (tmp_path / "maps" / "house.pgm").exists()
+    assert m["png"] == str(tmp_path / "maps" / "house.png")
+    assert (tmp_path / "maps" / "house.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert m["width"] > 0 and m["resolution"] == 0.05
+
+
+def test_render_rgb_array():
+    env = xhab.PointNavEnv(SCENE, sensors=("depth", "rgb"), resolution=32, render_mode="rgb_array")
+    assert env.render() is None
+    obs, _ = env.reset()
+    frame = env.render()
+    assert frame.shape == (32, 32, 3) and frame.dtype == np.uint8
+    assert np.array_equal(frame, obs["rgb"])
+    depth_only = xhab.PointNavEnv(SCENE, sensors=("depth",), resolution=16, render_mode="rgb_array")
+    obs, _ = depth_only.reset()
+    grey = depth_only.render()
+    assert grey.shape == (16, 16, 3)
+    # Nearer is brighter; no return is black.
+    d = obs["depth"][..., 0]
+    hit = d > 0
+    assert hit.any()
+    near, far = np.unravel_index(np.argmin(np.where(hit, d, np.inf)), d.shape), np.unravel_index(np.argmax(d), d.shape)
+    assert grey[near][0] >= grey[far][0]
+    with pytest.raises(ValueError, match="render_mode"):
+        xhab.PointNavEnv(SCENE, sensors=(), render_mode="rgb_array")
+    with pytest.raises(ValueError, match="render_mode"):
+        xhab.PointNavEnv(SCENE, render_mode="human")

@@ -55,7 +55,13 @@ def test_bad_calls(episodes):
         xhab.PointNavEnv(SCENE, sensors=(), physics=True).step_twist(float("nan"), 0, 1)
     with pytest.raises(ValueError, match="episode_id needs an episodes file"):
         xhab.PointNavEnv(SCENE, sensors=()).reset(options={"episode_id": "0"})
-    with pytest.raises(ValueError, match="agent 'nav'"):
-        xhab.bench(SCENE, episodes, agent="nav")
+    with pytest.raises(ValueError, match="agent 'walker'"):
+        xhab.bench(SCENE, episodes, agent="walker")
+    with pytest.raises(ValueError, match="localization: unknown 'gps'"):
+        xhab.bench(SCENE, episodes, agent="nav", localization="gps")
+    with pytest.raises(FileNotFoundError, match="missing.yaml"):
+        xhab.bench(SCENE, episodes, agent="nav", nav_params=["missing.yaml"])
+    with pytest.raises(ValueError, match="needs laser scans"):
+        xhab.bench(SCENE, episodes, agent="nav", localization="amcl", scan_source=None)
     with pytest.raises(ValueError, match="at least one"):
         xhab.VectorPointNavEnv(0, SCENE)

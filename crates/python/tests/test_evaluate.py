@@ -104,6 +104,17 @@ def test_builtin_bench_matches_cli(episodes, cli_bench):
     check_same(xhab.bench(SCENE, episodes), cli_bench(episodes))
 
 
+def test_builtin_nav_bench_matches_cli(episodes, cli_bench):
+    """The native stack through ``xhab.bench`` is the CLI's run: same library call, same numbers."""
+    py = xhab.bench(SCENE, episodes, agent="nav", robot="turtlebot3_burger", localization="odom", threads=2)
+    cli = cli_bench(episodes, "--robot", "turtlebot3_burger", "--localization", "odom", "--threads", "2", agent="nav")
+    check_same(py, cli)
+    same_keys(py, cli)
+    assert py["agent"] == "nav" and py["nav"]["localization"] == cli["nav"]["localization"]
+    assert py["physics"]["robot"] == cli["physics"]["robot"]
+    assert py["aggregate"]["success"] > 0.5
+
+
 def test_threads_do_not_change_results(episodes):
     one = xhab.evaluate(ReactiveDepth(), SCENE, episodes, sensors=("depth",), resolution=32, renderer="raster")
     two = xhab.evaluate(ReactiveDepth(), SCENE, episodes, sensors=("depth",), resolution=32, renderer="raster", threads=2)

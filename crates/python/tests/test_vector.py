@@ -59,3 +59,19 @@ def test_stacked_spaces_and_shapes():
     with pytest.raises(ValueError, match="expected 3 actions"):
         env.step([0, 0])
     env.close()
+
+
+def test_step_twist_batches_velocity_commands():
+    env = xhab.VectorPointNavEnv(2, SCENE, sensors=(), physics=True, seed=3, threads=2)
+    env.reset(seed=3)
+    poses = [env.view(i).pose for i in range(2)]
+    obs, rewards, terminated, truncated, infos = env.step_twist([[0.0, 0.5], [0.0, -0.5]], 1.0)
+    turned = [np.angle(np.exp(1j * (env.view(i).pose[2] - poses[i][2]))) for i in range(2)]
+    assert turned[0] > 0.4 and turned[1] < -0.4
+    assert list(infos["steps"]) == [1, 1] and not terminated.any()
+    single = xhab.PointNavEnv(SCENE, sensors=(), physics=True, seed=3)
+    single.reset(seed=3)
+    single.step_twist(0.0, 0.5, 1.0)
+    assert single.view().pose == env.view(0).pose
+    with pytest.raises(ValueError, match="twists"):
+        env.step_twist([[0.1, 0.0]], 1.0)

@@ -125,7 +125,10 @@ impl PhysicsEnv {
         let before = self.robot.pose().position();
         self.step_twist(twist, duration);
         self.path_length += before.dist(self.robot.pose().position());
-        self.steps = (self.robot.sim_time() / self.config.control_period).ceil() as u32;
+        // Control periods begun, with a tolerance for the rounding of summed physics steps
+        // (60 steps of 1/60 s add up to a hair over 1 s, which is still one period).
+        let periods = self.robot.sim_time() / self.config.control_period;
+        self.steps = (periods - 1e-6).ceil().max(0.0) as u32;
         if self.steps >= self.task.max_episode_steps {
             self.done = true;
         }
