@@ -24,11 +24,13 @@ import numpy as np
 import xhab
 
 
-def vector_steps_per_s(scene, n, threads, resolution, seconds, renderer):
+def vector_steps_per_s(scene, n, threads, resolution, seconds, renderer, max_steps):
     """Environment steps per second (n per call) with random actions, as habitat's figure:
-    move_forward 1/2, turn_left 1/4, turn_right 1/4 (no stop, so episodes run to the limit)."""
+    move_forward 1/2, turn_left 1/4, turn_right 1/4. No action is stop, and the step limit is
+    ``max_steps``: by default no episode ends inside the timing, which so times stepping alone,
+    as ``xhab perf`` and habitat's script do (both start their episodes outside the timing)."""
     env = xhab.VectorPointNavEnv(n, scene, sensors=("depth",), resolution=resolution, renderer=renderer,
-                                 threads=threads, seed=0)
+                                 threads=threads, seed=0, max_steps=max_steps)
     env.reset(seed=0)
     rng = np.random.default_rng(0)
     choice = np.array([1, 1, 2, 3])
@@ -68,6 +70,8 @@ def main():
     p.add_argument("--seconds", type=float, default=3.0)
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--renderer", default="auto")
+    p.add_argument("--max-steps", type=int, default=1_000_000,
+                   help="episode step limit (default: none is reached, so resets stay out of the timing)")
     p.add_argument("--cli", help="the xhab CLI, to run `xhab perf --sensors depth` for comparison")
     p.add_argument("--habitat", help="the habitat peer's folder (../shared/peers/habitat), to time habitat-sim too")
     p.add_argument("--hpython", default="/opt/habpeer/bin/hpython", help="the peer's Python launcher")
@@ -75,7 +79,7 @@ def main():
     rounds = {"python": {str(n): [] for n in a.n}, "cli": [], "habitat": []}
     for _ in range(a.rounds):
         for n in a.n:
-            rounds["python"][str(n)].append(vector_steps_per_s(a.scene, n, n, a.resolution, a.seconds, a.renderer))
+            rounds["python"][str(n)].append(vector_steps_per_s(a.scene, n, n, a.resolution, a.seconds, a.renderer, a.max_steps))
         if a.cli:
             rounds["cli"].append(cli_depth_steps_per_s(a.cli, a.scene, a.resolution, a.seconds, a.renderer))
         if a.habitat:

@@ -9,7 +9,7 @@
 
 use pyo3::exceptions::{PyFileNotFoundError, PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyByteArray, PyDict, PyList};
+use pyo3::types::{PyByteArray, PyDict};
 use std::error::Error;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -394,6 +394,70 @@ fn stacked<'py>(py: Python<'py>, steps: &[GymStep], shape: Option<(usize, usize,
     Ok(d)
 }
 
+/// A plain value numpy reads with `np.frombuffer` (native byte order).
+trait Column: Copy {
+    /// Its size in bytes.
+    const SIZE: usize;
+    /// Writes its bytes into `out` (`SIZE` long).
+    fn put(self, out: &mut [u8]);
+}
+
+impl Column for f64 {
+    const SIZE: usize = 8;
+    fn put(self, out: &mut [u8]) {
+        out.copy_from_slice(&self.to_ne_bytes());
+    }
+}
+
+impl Column for i64 {
+    const SIZE: usize = 8;
+    fn put(self, out: &mut [u8]) {
+        out.copy_from_slice(&self.to_ne_bytes());
+    }
+}
+
+impl Column for u8 {
+    const SIZE: usize = 1;
+    fn put(self, out: &mut [u8]) {
+        out[0] = self;
+    }
+}
+
+/// One value per step as a `bytearray` column.
+fn raw<'py, T: Column>(py: Python<'py>, steps: &[GymStep], f: impl Fn(&GymStep) -> T) -> PyResult<Bound<'py, PyByteArray>> {
+    PyByteArray::new_with(py, steps.len() * T::SIZE, |b| {
+        for (chunk, s) in b.chunks_exact_mut(T::SIZE).zip(steps) {
+            f(s).put(chunk);
+        }
+        Ok(())
+    })
+}
+
+/// A batch of steps, column by column: `obs` (see [`stacked`]), `reward` (float64),
+/// `terminated` and `truncated` (uint8), and `info`, one column per key (float64, int64,
+/// uint8, or a list of str for `episode_id`), so the Python half makes each array with one
+/// `np.frombuffer`.
+fn batch<'py>(py: Python<'py>, r: &[GymStep], shape: Option<(usize, usize, bool)>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("obs", stacked(py, r, shape)?)?;
+    d.set_item("reward", raw(py, r, |s| s.reward)?)?;
+    d.set_item("terminated", raw(py, r, |s| s.terminated as u8)?)?;
+    d.set_item("truncated", raw(py, r, |s| s.truncated as u8)?)?;
+    let i = PyDict::new(py);
+    i.set_item("episode_id", r.iter().map(|s| s.info.episode_id.as_str()).collect::<Vec<_>>())?;
+    i.set_item("distance_to_goal", raw(py, r, |s| s.info.distance_to_goal)?)?;
+    i.set_item("success", raw(py, r, |s| s.info.success)?)?;
+    i.set_item("spl", raw(py, r, |s| s.info.spl)?)?;
+    i.set_item("soft_spl", raw(py, r, |s| s.info.soft_spl)?)?;
+    i.set_item("collisions", raw(py, r, |s| s.info.collisions as i64)?)?;
+    i.set_item("collided", raw(py, r, |s| s.info.collided as u8)?)?;
+    i.set_item("steps", raw(py, r, |s| s.info.steps as i64)?)?;
+    i.set_item("path_length", raw(py, r, |s| s.info.path_length)?)?;
+    i.set_item("called_stop", raw(py, r, |s| s.info.called_stop as u8)?)?;
+    d.set_item("info", i)?;
+    Ok(d)
+}
+
 #[pymethods]
 impl VecCore {
     #[new]
@@ -422,39 +486,27 @@ impl VecCore {
         self.envs.envs()[0].setup().sensors.as_ref().is_some_and(|r| r.noise.sigma_at_1m > 0.0)
     }
 
+    /// Resets every environment; returns the batch (see `batch`).
     #[pyo3(signature = (seed=None))]
-    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyList>)> {
+    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<Bound<'py, PyDict>> {
         let envs = &mut self.envs;
         let r = py.detach(|| envs.reset(seed)).map_err(gym_err)?;
-        let infos = PyList::empty(py);
-        for s in &r {
-            infos.append(info_dict(py, &s.info)?)?;
-        }
-        Ok((stacked(py, &r, self.shape)?, infos))
+        batch(py, &r, self.shape)
     }
 
-    #[allow(clippy::type_complexity)]
-    fn step<'py>(&mut self, py: Python<'py>, actions: Vec<Bound<'py, PyAny>>) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Bound<'py, PyList>)> {
+    /// Steps every environment with its action; returns the batch.
+    fn step<'py>(&mut self, py: Python<'py>, actions: Vec<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyDict>> {
         let actions: Vec<Action> = actions.iter().map(action).collect::<PyResult<_>>()?;
         let envs = &mut self.envs;
         let r = py.detach(|| envs.step(&actions)).map_err(gym_err)?;
-        let infos = PyList::empty(py);
-        for s in &r {
-            infos.append(info_dict(py, &s.info)?)?;
-        }
-        Ok((stacked(py, &r, self.shape)?, r.iter().map(|s| s.reward).collect(), r.iter().map(|s| s.terminated).collect(), r.iter().map(|s| s.truncated).collect(), infos))
+        batch(py, &r, self.shape)
     }
 
     /// Holds each environment's `(linear, angular)` twist for `duration` s under physics.
-    #[allow(clippy::type_complexity)]
-    fn step_twist<'py>(&mut self, py: Python<'py>, twists: Vec<(f64, f64)>, duration: f64) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Bound<'py, PyList>)> {
+    fn step_twist<'py>(&mut self, py: Python<'py>, twists: Vec<(f64, f64)>, duration: f64) -> PyResult<Bound<'py, PyDict>> {
         let envs = &mut self.envs;
         let r = py.detach(|| envs.step_twist(&twists, duration)).map_err(gym_err)?;
-        let infos = PyList::empty(py);
-        for s in &r {
-            infos.append(info_dict(py, &s.info)?)?;
-        }
-        Ok((stacked(py, &r, self.shape)?, r.iter().map(|s| s.reward).collect(), r.iter().map(|s| s.terminated).collect(), r.iter().map(|s| s.truncated).collect(), infos))
+        batch(py, &r, self.shape)
     }
 
     /// What an oracle sees in environment `i` now.

@@ -19,6 +19,11 @@ STOP, MOVE_FORWARD, TURN_LEFT, TURN_RIGHT = 0, 1, 2, 3
 
 _SEED_MASK = (1 << 64) - 1
 
+#: The dtypes of the info columns the Rust core sends (``episode_id`` comes as a list of str).
+_INFO_DTYPES = {"distance_to_goal": np.float64, "success": np.float64, "spl": np.float64, "soft_spl": np.float64,
+                "collisions": np.int64, "collided": np.bool_, "steps": np.int64, "path_length": np.float64,
+                "called_stop": np.bool_}
+
 
 def options(**kwargs):
     """The Rust core's option dict: keywords whose value is not None (sensors as a list)."""
@@ -240,15 +245,16 @@ class VectorPointNavEnv(gym.vector.VectorEnv):
         o["compass"] = np.frombuffer(raw["compass"], np.float32).reshape(n, 1)
         return o
 
-    @staticmethod
-    def _infos(infos):
-        """Gymnasium's vector info layout: an array per key and a ``_key`` mask."""
-        out = {}
-        for key in infos[0]:
-            values = [i[key] for i in infos]
-            out[key] = np.array(values, dtype=object if isinstance(values[0], str) else None)
-            out["_" + key] = np.ones(len(infos), dtype=bool)
-        return out
+    def _batch(self, b):
+        """Observations, rewards, flags and Gymnasium's vector info layout (an array per key
+        and a ``_key`` mask) from the Rust core's columns."""
+        n = self.num_envs
+        infos = {}
+        for key, col in b["info"].items():
+            infos[key] = np.array(col, dtype=object) if key == "episode_id" else np.frombuffer(col, _INFO_DTYPES[key])
+            infos["_" + key] = np.ones(n, dtype=bool)
+        return (self._obs(b["obs"]), np.frombuffer(b["reward"], np.float64), np.frombuffer(b["terminated"], np.bool_),
+                np.frombuffer(b["truncated"], np.bool_), infos)
 
     def reset(self, *, seed=None, options=None):
         """Resets every environment; ``seed`` (an int) re-seeds them all."""
@@ -256,13 +262,11 @@ class VectorPointNavEnv(gym.vector.VectorEnv):
             raise ValueError("options: VectorPointNavEnv.reset takes none (episodes follow the file's order)")
         if isinstance(seed, (list, tuple)):
             raise ValueError("seed: one int for all environments (each plays its own episodes)")
-        raw, infos = self._core.reset(_seed(seed))
-        return self._obs(raw), self._infos(infos)
+        obs, _, _, _, infos = self._batch(self._core.reset(_seed(seed)))
+        return obs, infos
 
     def step(self, actions):
-        raw, rewards, terminated, truncated, infos = self._core.step(list(np.asarray(actions).reshape(-1)))
-        return (self._obs(raw), np.array(rewards, dtype=np.float64), np.array(terminated, dtype=bool),
-                np.array(truncated, dtype=bool), self._infos(infos))
+        return self._batch(self._core.step(np.asarray(actions).reshape(-1).tolist()))
 
     def step_twist(self, twists, duration):
         """Holds each environment's ``(linear m/s, angular rad/s)`` velocities (an ``(n, 2)``
@@ -271,9 +275,7 @@ class VectorPointNavEnv(gym.vector.VectorEnv):
         if tw.size != 2 * self.num_envs:
             raise ValueError(f"twists: expected {self.num_envs} (linear, angular) pairs, got an array of shape {tw.shape}")
         tw = tw.reshape(self.num_envs, 2)
-        raw, rewards, terminated, truncated, infos = self._core.step_twist([(float(v), float(w)) for v, w in tw], float(duration))
-        return (self._obs(raw), np.array(rewards, dtype=np.float64), np.array(terminated, dtype=bool),
-                np.array(truncated, dtype=bool), self._infos(infos))
+        return self._batch(self._core.step_twist([(float(v), float(w)) for v, w in tw], float(duration)))
 
     def view(self, i):
         """What an oracle sees in environment ``i`` (see ``PointNavEnv.view``)."""
