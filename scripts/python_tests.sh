@@ -2,7 +2,7 @@
 # The Python package's tests: makes a virtual environment (.venv, if missing) with maturin,
 # pytest, gymnasium and numpy, builds the `xhab` extension into it (`maturin develop`, the
 # workspace's dev profile, which optimises), builds the CLI the tests compare against, and
-# runs pytest on crates/python/tests. Exits non-zero when anything fails, including when
+# runs pytest on tests/python. Exits non-zero when anything fails, including when
 # pytest collects no test (its exit status 5).
 #
 # Environment: PYTHON (default python3, CPython >= 3.9), XHAB_VENV (default .venv).
@@ -32,7 +32,7 @@ export XHAB_REQUIRE_CLI=1
 )
 
 status=0
-(cd crates/python && "$venv/bin/python" -m pytest -q tests "$@") || status=$?
+"$venv/bin/python" -m pytest -q tests/python "$@" || status=$?
 if [ "$status" = 5 ]; then
   echo "xhab python tests: pytest collected no test" >&2
   exit 1

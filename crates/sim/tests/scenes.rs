@@ -5,17 +5,9 @@ use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::scene::house::{generate_house, HouseParams};
 use xhab_sim::scene::{load, to_glb_bytes, LoadOptions, Scene, UpAxis};
 
-fn data_dir(test: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("XHAB_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared")));
-    if dir.join("scenes").is_dir() {
-        return Some(dir);
-    }
-    assert!(std::env::var("XHAB_REQUIRE_DATA").as_deref() != Ok("1"), "{test}: shared data missing at {}", dir.display());
-    eprintln!("SKIPPED {test}: shared data not found at {}", dir.display());
-    None
-}
+#[path = "../../../tests/support/data.rs"]
+mod data;
+use data::data_dir;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("xhab-scenes-{}", std::process::id()));

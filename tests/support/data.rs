@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests.
+//! The shared third-party data, for every test that reads it (included with `#[path]` by
+//! tests/e2e and the crates' own integration tests, so the lookup and its skip rule live here
+//! once).
 
 use std::path::PathBuf;
 
@@ -18,7 +20,8 @@ pub fn data_dir(test: &str) -> Option<PathBuf> {
     None
 }
 
-/// The `xhab` binary built for these tests.
-pub fn xhab() -> std::process::Command {
-    std::process::Command::new(env!("CARGO_BIN_EXE_xhab"))
+/// The workspace's root folder.
+#[allow(dead_code)]
+pub fn repo_root() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }

@@ -270,7 +270,7 @@ fn a_rospy_move_base_server_is_benchmarked_and_its_path_matches_its_odometry() {
     subset(&data.join("episodes/turtlebot3_world_pointnav.json.gz"), &eps, |i| i < 4);
     let master = Master::start().expect("rosmaster starts");
     let node_json = dir.join("rospy_nav.json");
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/rospy_nav.py");
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/e2e/ros/rospy_nav.py");
     // Goal 3 is never driven to (cancelled at the timeout), goal 4 is given up after 2 s.
     let launch = format!("exec {PY} {script} {} --stall 3 --abort 4", node_json.display());
     let out_json = dir.join("ros.json");
@@ -368,7 +368,7 @@ fn ros_nav_serves_actionlib_move_base_simple_clear_costmaps_and_tf2() {
     );
     let nav_log = dir.join("nav.log");
     let mut nav = Group::spawn(ros_env(xhab().env("XHAB_LOG", "xhab_bridge=info").args(["ros", "nav", "--localization", "amcl", "--ros-master", &master.uri]), &master), &nav_log, Duration::from_secs(5));
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/move_base_clients.py");
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/e2e/ros/move_base_clients.py");
     let (st, out) = run_limited(
         ros_env(Command::new(PY).arg(script).args([g.x, g.y, s.x, s.y].map(|v| v.to_string())).args(["base_scan", "-0.032"]), &master),
         &dir.join("clients.log"),
@@ -415,13 +415,13 @@ fn lockstep_keeps_standard_topics_clean_and_ignores_other_publishers() {
     std::thread::sleep(Duration::from_millis(500));
     assert!(rec.stop(), "rosbag record did not stop on SIGINT:\n{}", tail(&dir.join("record.log"), 2000));
     assert!(bag.is_file(), "no bag at {}:\n{}", bag.display(), tail(&dir.join("record.log"), 2000));
-    let (st, out) = run_limited(ros_env(Command::new(PY).arg(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/check_bag.py")).arg(&bag), &master), &dir.join("check.log"), Duration::from_secs(60));
+    let (st, out) = run_limited(ros_env(Command::new(PY).arg(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/e2e/ros/check_bag.py")).arg(&bag), &master), &dir.join("check.log"), Duration::from_secs(60));
     eprintln!("{out}");
     assert!(st.success() && out.contains("PASS"), "the recorded topics break the rules above");
 
     // Other publishers on the standard topics while the run pairs messages by stamp.
     let spam_log = dir.join("spam.log");
-    let mut spam = Group::spawn(ros_env(Command::new(PY).arg(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ros/spam.py")), &master), &spam_log, Duration::from_secs(5));
+    let mut spam = Group::spawn(ros_env(Command::new(PY).arg(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/e2e/ros/spam.py")), &master), &spam_log, Duration::from_secs(5));
     let play_log = dir.join("play.log");
     let topics = ["/odom", "/scan", "/tf", "/tf_static", "/clock", "/map", "/amcl/map", "/ground_truth/pose"];
     let mut play = Group::spawn(ros_env(Command::new("rosbag").args(["play", "--loop", "-q"]).arg(&bag).arg("--topics").args(topics), &master), &play_log, Duration::from_secs(5));

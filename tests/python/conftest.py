@@ -14,7 +14,7 @@ import pytest
 
 import xhab
 
-REPO = pathlib.Path(__file__).resolve().parents[3]
+REPO = pathlib.Path(__file__).resolve().parents[2]
 SCENE = "procedural:1"
 
 

@@ -50,7 +50,7 @@ fn rospy_reads_our_topics_records_them_and_drives_the_robot() {
 /// and returns whether it exited 0, and its stdout.
 pub fn rospy_script(script: &str, uri: &str) -> (bool, String) {
     let out = Command::new("/usr/bin/python3")
-        .arg(format!("{}/tests/ros/{script}", env!("CARGO_MANIFEST_DIR")))
+        .arg(format!("{}/../../tests/e2e/ros/{script}", env!("CARGO_MANIFEST_DIR")))
         .env("ROS_MASTER_URI", uri)
         .env("ROS_IP", "127.0.0.1")
         .env("ROS_LOG_DIR", std::env::temp_dir().join("xhab_ros_log"))

@@ -1,0 +1,16 @@
+//! End-to-end tests of the xhab workspace: the CLI on real data, ROS interop, the shipped maps.
+//! They are the `xhab` package's integration tests (`cargo test -p xhab --test e2e`), kept
+//! here at the top level because they cross crates.
+mod common;
+mod cli;
+mod map_vs_slam;
+mod sensors;
+mod raster;
+mod ros_interop;
+mod ros_names;
+mod ros_external;
+mod gpu;
+mod localization;
+mod textures;
+mod ros_params;
+mod maps;
