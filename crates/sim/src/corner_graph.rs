@@ -160,15 +160,21 @@ impl CornerGraph {
     /// Geodesic distance between two points of the floor (m); infinite across islands or off
     /// the region. A search from `to` over the graph, ordered by the distance so far plus the
     /// straight line to `from`, that tests whether `from` (or `to`) sees a node only when
-    /// that node comes first: the first node `from` sees is on the shortest path.
+    /// that node comes first: the first node `from` sees is on the shortest path. As in
+    /// [`GoalField`](crate::goal_field::GoalField), what `from` sees is seen from the centre of
+    /// its cell (or of the nearest navigable cell within two), and `to` is exact.
     pub fn distance(&self, grid: &NavGrid, from: Point2, to: Point2) -> f64 {
         let (Some(ia), Some(ib)) = (grid.island_at(from), grid.island_at(to)) else { return f64::INFINITY };
         if ia != ib {
             return f64::INFINITY;
         }
         let (s, g) = ([from.x, from.y], [to.x, to.y]);
-        let (es, eg) = (end_eps(grid, s), end_eps(grid, g));
-        if segment_clear(grid, s, g, es.max(eg)) {
+        let eg = end_eps(grid, g);
+        let Some(cs) = grid.cell_of(from).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(from, 2)) else {
+            return f64::INFINITY;
+        };
+        let (c, es) = (grid.center(cs), LOS_EPS);
+        if segment_clear(grid, c, g, eg) {
             return dist2(s, g);
         }
         SCRATCH.with(|sc| {
@@ -199,7 +205,7 @@ impl CornerGraph {
                     continue;
                 }
                 done[k] = true;
-                if self.joins(grid, k, s, es) {
+                if self.joins(grid, k, c, es) {
                     return dist[k] + dist2(a, s);
                 }
                 for &(b, l) in self.legs(k) {
