@@ -2,7 +2,7 @@
 
 use crate::action::Action;
 use crate::episode::Episode;
-use crate::geodesic::GeodesicField;
+use crate::goal_field::GoalField;
 use crate::kinematic::try_step;
 use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
@@ -86,7 +86,7 @@ pub struct StepResult {
 pub(crate) struct Prepared {
     pub start: Pose2,
     pub goals: Vec<Point2>,
-    pub field: Arc<GeodesicField>,
+    pub field: Arc<GoalField>,
     pub d0: f64,
 }
 
@@ -135,7 +135,7 @@ pub trait EnvView {
     /// The navigation grid of the episode's floor.
     fn grid(&self) -> &Arc<NavGrid>;
     /// The geodesic field towards the episode's goals.
-    fn field(&self) -> &Arc<GeodesicField>;
+    fn field(&self) -> &Arc<GoalField>;
 }
 
 /// A running PointNav episode that runners step, with or without physics.
@@ -154,7 +154,7 @@ pub trait DiscreteEnv: EnvView + Send {
 #[derive(Debug, Clone)]
 pub struct Env {
     grid: Arc<NavGrid>,
-    field: Arc<GeodesicField>,
+    field: Arc<GoalField>,
     config: TaskConfig,
     start: Pose2,
     goals: Vec<Point2>,
@@ -250,7 +250,7 @@ impl EnvView for Env {
         &self.grid
     }
     /// The geodesic field towards the episode's goals.
-    fn field(&self) -> &Arc<GeodesicField> {
+    fn field(&self) -> &Arc<GoalField> {
         &self.field
     }
 }
@@ -262,7 +262,7 @@ pub struct EnvSnapshot {
     pose: Pose2,
     config: TaskConfig,
     grid: Arc<NavGrid>,
-    field: Arc<GeodesicField>,
+    field: Arc<GoalField>,
 }
 
 impl EnvSnapshot {
@@ -273,7 +273,7 @@ impl EnvSnapshot {
 
     /// A view of an episode known from outside an environment (a ROS agent node's): the
     /// agent at `pose`, the task, its floor's grid and its goals' field.
-    pub fn new(pose: Pose2, config: TaskConfig, grid: Arc<NavGrid>, field: Arc<GeodesicField>) -> Self {
+    pub fn new(pose: Pose2, config: TaskConfig, grid: Arc<NavGrid>, field: Arc<GoalField>) -> Self {
         EnvSnapshot { pose, config, grid, field }
     }
 
@@ -293,7 +293,7 @@ impl EnvView for EnvSnapshot {
     fn grid(&self) -> &Arc<NavGrid> {
         &self.grid
     }
-    fn field(&self) -> &Arc<GeodesicField> {
+    fn field(&self) -> &Arc<GoalField> {
         &self.field
     }
 }

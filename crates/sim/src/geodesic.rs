@@ -231,9 +231,10 @@ impl GeodesicField {
     }
 }
 
-/// Geodesic distance between two points of one floor (m); infinite across islands.
+/// Geodesic distance between two points of one floor (m); infinite across islands. Answered
+/// by the floor's [`CornerGraph`](crate::corner_graph::CornerGraph), no field needed.
 pub fn geodesic_distance(grid: &NavGrid, from: Point2, to: Point2) -> f64 {
-    GeodesicField::towards(grid, &[to], from).distance(grid, from)
+    grid.corner_graph().distance(grid, from, to)
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {

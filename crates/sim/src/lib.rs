@@ -13,6 +13,8 @@ pub mod scene;
 pub mod episode;
 pub mod navgrid;
 pub mod geodesic;
+pub mod corner_graph;
+pub mod goal_field;
 pub mod field_cache;
 pub mod action;
 pub mod env;

@@ -5,7 +5,7 @@
 use crate::action::Action;
 use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, Prepared, StepResult, TaskConfig};
 use crate::episode::Episode;
-use crate::geodesic::GeodesicField;
+use crate::goal_field::GoalField;
 use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
 use crate::robot::{OdometryNoise, PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, RobotProfile, WheelOdometry};
@@ -51,7 +51,7 @@ pub enum PhysicsEnvError {
 /// One running episode under physics.
 pub struct PhysicsEnv {
     grid: Arc<NavGrid>,
-    field: Arc<GeodesicField>,
+    field: Arc<GoalField>,
     task: TaskConfig,
     config: PhysicsConfig,
     robot: RigidRobot,
@@ -229,7 +229,7 @@ impl EnvView for PhysicsEnv {
         &self.grid
     }
 
-    fn field(&self) -> &Arc<GeodesicField> {
+    fn field(&self) -> &Arc<GoalField> {
         &self.field
     }
 }

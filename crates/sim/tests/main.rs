@@ -4,6 +4,7 @@ mod env_oracle;
 mod physics;
 mod scenes;
 mod geodesic_closed_form;
+mod geodesic_vs_field;
 mod raster;
 mod gpu;
 mod textures;

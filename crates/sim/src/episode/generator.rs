@@ -7,7 +7,7 @@
 //! 20 * (ratio - 0.98)^2 (so that easy, straight episodes are rare).
 
 use super::{Dataset, Episode, Goal};
-use crate::geodesic::GeodesicField;
+use crate::goal_field::GoalField;
 use crate::navgrid::NavGrid;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -89,7 +89,7 @@ pub fn generate_episodes(
         }
         tries += 1;
         let Some(goal) = grid.sample_navigable_point(&cells, &mut rng) else { continue };
-        let field = GeodesicField::new(grid, &[goal.xy()]);
+        let field = GoalField::new(grid, &[goal.xy()]);
         for _ in 0..params.number_retries_per_target {
             let Some(start) = grid.sample_navigable_point(&all_cells, &mut rng) else { continue };
             if (start.z - goal.z).abs() > 0.5 {

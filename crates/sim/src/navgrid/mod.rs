@@ -114,13 +114,20 @@ pub struct NavGrid {
     pub(crate) nearest: Vec<u32>,
     /// The geodesic fields built lately on this grid.
     pub(crate) fields: crate::field_cache::FieldCache,
+    /// The bend points of shortest paths and the legs between them, built on first use.
+    pub(crate) corner_graph: std::sync::OnceLock<std::sync::Arc<crate::corner_graph::CornerGraph>>,
 }
 
 impl NavGrid {
     /// The geodesic field of `goals` on this grid, shared with whoever asked for the same
     /// goals lately in this process.
-    pub fn field(&self, goals: &[xhab_types::Point2]) -> std::sync::Arc<crate::geodesic::GeodesicField> {
+    pub fn field(&self, goals: &[xhab_types::Point2]) -> std::sync::Arc<crate::goal_field::GoalField> {
         self.fields.get(self, goals)
+    }
+
+    /// The corner graph of this floor (the bend points of shortest paths), built on first use.
+    pub fn corner_graph(&self) -> &std::sync::Arc<crate::corner_graph::CornerGraph> {
+        self.corner_graph.get_or_init(|| std::sync::Arc::new(crate::corner_graph::CornerGraph::new(self)))
     }
 
     /// Builds the navigable region of `scene` on the floor at height `floor_z` (m).
@@ -219,6 +226,7 @@ impl NavGrid {
             segments: segs,
             nearest,
             fields: Default::default(),
+            corner_graph: Default::default(),
         };
         grid.label_islands();
         grid.find_corners();

@@ -1,0 +1,329 @@
+//! The corner graph of one floor: the points where shortest paths can bend, and the straight
+//! legs between them, built once per [`NavGrid`].
+//!
+//! A shortest path of the disc agent is straight except where it wraps around a convex corner
+//! of an obstacle, at exactly the agent radius from it. The graph's *nodes* are the boundary
+//! cells near such corners (see [`reflex_cells`]: segment ends, reflex corners of the floor's
+//! edge, narrow passages), at the anchors the grid already places on the region's boundary
+//! (the same bend points as [`GeodesicField`]'s, less those along straight walls).
+//! Two nodes are joined when they see each other ([`segment_clear`]) and the leg is *taut* at
+//! both ends: a path that bends at a node leaves it along the boundary's tangent, never
+//! straight away from the obstacle, so legs within [`TAUT_COS`] of a node's outward normal are
+//! left out (most of the pairs, and none that a shortest path uses).
+//!
+//! Queries join their end points to the nodes they see, lazily: a goal-directed search over
+//! the graph tests the line of sight of a node only when it would settle the answer. See
+//! [`CornerGraph::distance`] and [`crate::goal_field::GoalField`].
+//!
+//! [`GeodesicField`]: crate::geodesic::GeodesicField
+
+use crate::geodesic::{segment_clear, LOS_EPS};
+use crate::navgrid::{closest_on_segment, NavGrid};
+use rayon::prelude::*;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use xhab_types::Point2;
+
+/// Largest cosine between a leg and a node's outward normal for the leg to be taut there,
+/// when the normal comes from the exact obstacle segments (bend points one cell apart on an arc
+/// of the agent's radius turn by up to ~30 degrees; this keeps legs up to 50 degrees off the
+/// tangent).
+pub const TAUT_COS: f64 = 0.77;
+
+/// The same for nodes on the edge of the floor, whose normal comes from the cells (coarser).
+const TAUT_COS_COARSE: f64 = 0.95;
+
+/// Bend points of one floor and the taut legs between them.
+#[derive(Debug, Clone)]
+pub struct CornerGraph {
+    /// Position of each node (m): its cell's anchor on the region's boundary.
+    pos: Vec<[f64; 2]>,
+    /// Outward unit normal of the boundary at each node ([0, 0] when unknown: no pruning).
+    normal: Vec<[f64; 2]>,
+    /// Largest cosine between a taut leg and the normal, per node.
+    taut: Vec<f64>,
+    /// Island of each node.
+    island: Vec<u32>,
+    /// Legs: those of node k are `legs[start[k]..start[k + 1]]` (other node, length in m).
+    start: Vec<u32>,
+    legs: Vec<(u32, f64)>,
+}
+
+impl CornerGraph {
+    /// Builds the graph of `grid` (in parallel over nodes; the same graph for any thread count).
+    pub fn new(grid: &NavGrid) -> CornerGraph {
+        let cells = reflex_cells(grid);
+        let mut g = CornerGraph {
+            pos: cells.iter().map(|&i| grid.anchor[i]).collect(),
+            normal: Vec::with_capacity(cells.len()),
+            taut: Vec::with_capacity(cells.len()),
+            island: cells.iter().map(|&i| grid.island_of[i]).collect(),
+            start: Vec::new(),
+            legs: Vec::new(),
+        };
+        for &i in &cells {
+            let (n, t) = outward_normal(grid, i);
+            g.normal.push(n);
+            g.taut.push(t);
+        }
+        let n = cells.len();
+        // Each node's legs to the nodes after it, then mirrored.
+        let half: Vec<Vec<(u32, f64)>> = (0..n)
+            .into_par_iter()
+            .map(|a| {
+                let mut out = Vec::new();
+                for b in a + 1..n {
+                    if g.island[a] != g.island[b] {
+                        continue;
+                    }
+                    let (pa, pb) = (g.pos[a], g.pos[b]);
+                    let d = [pb[0] - pa[0], pb[1] - pa[1]];
+                    let l = d[0].hypot(d[1]);
+                    if l < 1e-9 {
+                        continue;
+                    }
+                    let u = [d[0] / l, d[1] / l];
+                    if !g.is_taut(a, u) || !g.is_taut(b, [-u[0], -u[1]]) {
+                        continue;
+                    }
+                    if segment_clear(grid, pa, pb, LOS_EPS) {
+                        out.push((b as u32, l));
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut adj: Vec<Vec<(u32, f64)>> = vec![Vec::new(); n];
+        for (a, list) in half.iter().enumerate() {
+            for &(b, l) in list {
+                adj[a].push((b, l));
+                adj[b as usize].push((a as u32, l));
+            }
+        }
+        g.start.push(0);
+        for list in &mut adj {
+            list.sort_by_key(|e| e.0);
+            g.legs.extend_from_slice(list);
+            g.start.push(g.legs.len() as u32);
+        }
+        g
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Whether the graph has no node (a region without reflex corners: every path is straight).
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Number of legs (each counted once).
+    pub fn leg_count(&self) -> usize {
+        self.legs.len() / 2
+    }
+
+    /// Position of node `k` (m).
+    pub(crate) fn pos(&self, k: usize) -> [f64; 2] {
+        self.pos[k]
+    }
+
+    /// Island of node `k`.
+    pub(crate) fn island(&self, k: usize) -> u32 {
+        self.island[k]
+    }
+
+    /// The legs of node `k`: (other node, length in m).
+    pub(crate) fn legs(&self, k: usize) -> &[(u32, f64)] {
+        &self.legs[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+
+    /// Whether a leg leaving node `k` along unit direction `u` can be part of a taut path.
+    pub(crate) fn is_taut(&self, k: usize, u: [f64; 2]) -> bool {
+        let n = self.normal[k];
+        u[0] * n[0] + u[1] * n[1] <= self.taut[k]
+    }
+
+    /// Whether node `k` can be the first bend of a shortest path from point `p` (m): a taut
+    /// leg that `p` sees, `eps` (m) inside the clearance radius allowed.
+    pub(crate) fn joins(&self, grid: &NavGrid, k: usize, p: [f64; 2], eps: f64) -> bool {
+        let a = self.pos[k];
+        let d = [p[0] - a[0], p[1] - a[1]];
+        let l = d[0].hypot(d[1]);
+        if l < 1e-9 {
+            return true;
+        }
+        self.is_taut(k, [d[0] / l, d[1] / l]) && segment_clear(grid, p, a, eps)
+    }
+
+    /// Geodesic distance between two points of the floor (m); infinite across islands or off
+    /// the region. A search from `to` over the graph, ordered by the distance so far plus the
+    /// straight line to `from`, that tests whether `from` (or `to`) sees a node only when
+    /// that node comes first: the first node `from` sees is on the shortest path. As in
+    /// [`GoalField`](crate::goal_field::GoalField), what `from` sees is seen from the centre of
+    /// its cell (or of the nearest navigable cell within two), and `to` is exact.
+    pub fn distance(&self, grid: &NavGrid, from: Point2, to: Point2) -> f64 {
+        let (Some(ia), Some(ib)) = (grid.island_at(from), grid.island_at(to)) else { return f64::INFINITY };
+        if ia != ib {
+            return f64::INFINITY;
+        }
+        let (s, g) = ([from.x, from.y], [to.x, to.y]);
+        let eg = end_eps(grid, g);
+        let Some(cs) = grid.cell_of(from).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(from, 2)) else {
+            return f64::INFINITY;
+        };
+        let (c, es) = (grid.center(cs), LOS_EPS);
+        if segment_clear(grid, c, g, eg) {
+            return dist2(s, g);
+        }
+        SCRATCH.with(|sc| {
+            let mut sc = sc.borrow_mut();
+            sc.reset(self.len());
+            let Scratch { dist, done, heap } = &mut *sc;
+            // Entries: (key bits, node, whether the node's leg from `to` is still unverified).
+            for k in 0..self.len() {
+                if self.island[k] != ia {
+                    continue;
+                }
+                let a = self.pos[k];
+                let key = dist2(g, a) + dist2(a, s);
+                heap.push(Reverse((key.to_bits(), k as u32, true)));
+            }
+            while let Some(Reverse((key, k, seed))) = heap.pop() {
+                let k = k as usize;
+                if done[k] {
+                    continue;
+                }
+                let a = self.pos[k];
+                if seed {
+                    if !self.joins(grid, k, g, eg) {
+                        continue;
+                    }
+                    dist[k] = dist[k].min(dist2(g, a));
+                } else if f64::from_bits(key) > dist[k] + dist2(a, s) + 1e-12 {
+                    continue;
+                }
+                done[k] = true;
+                if self.joins(grid, k, c, es) {
+                    return dist[k] + dist2(a, s);
+                }
+                for &(b, l) in self.legs(k) {
+                    let b = b as usize;
+                    let nd = dist[k] + l;
+                    if !done[b] && nd < dist[b] {
+                        dist[b] = nd;
+                        heap.push(Reverse(((nd + dist2(self.pos[b], s)).to_bits(), b as u32, false)));
+                    }
+                }
+            }
+            f64::INFINITY
+        })
+    }
+}
+
+/// Reusable per-thread search arrays.
+#[derive(Default)]
+struct Scratch {
+    dist: Vec<f64>,
+    done: Vec<bool>,
+    heap: BinaryHeap<Reverse<(u64, u32, bool)>>,
+}
+
+impl Scratch {
+    fn reset(&mut self, n: usize) {
+        self.dist.clear();
+        self.dist.resize(n, f64::INFINITY);
+        self.done.clear();
+        self.done.resize(n, false);
+        self.heap.clear();
+    }
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+/// The line-of-sight tolerance at an end point `p` (m) of a query: [`LOS_EPS`], or the
+/// navigability tolerance for a point that stands within it (an episode's start may).
+pub(crate) fn end_eps(grid: &NavGrid, p: [f64; 2]) -> f64 {
+    if segment_clear(grid, p, p, LOS_EPS) {
+        LOS_EPS
+    } else {
+        crate::navgrid::NAV_TOLERANCE
+    }
+}
+
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Boundary cells where a shortest path may bend, in cell order: those whose nearest obstacle
+/// point lies within one cell of a segment's end (convex corners of the scene's geometry are
+/// segment ends; along a straight wall no path bends), those on the edge of the floor at a
+/// reflex corner of the cells (a 2 x 2 block with exactly one cell off the region), and those
+/// in a passage at most three cells wide (off-region cells on both sides), where paths follow
+/// the cells.
+fn reflex_cells(grid: &NavGrid) -> Vec<usize> {
+    let (w, h) = grid.size();
+    let (wi, hi) = (w as isize, h as isize);
+    let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
+    let reflex_block = |i: usize| {
+        let (c, r) = ((i % w) as isize, (i / w) as isize);
+        [(-1, -1), (0, -1), (-1, 0), (0, 0)].iter().any(|&(bx, by)| {
+            let block = [(c + bx, r + by), (c + bx + 1, r + by), (c + bx, r + by + 1), (c + bx + 1, r + by + 1)];
+            block.iter().filter(|&&(x, y)| !nav(x, y)).count() == 1
+        })
+    };
+    let pinched = |i: usize| {
+        let (c, r) = ((i % w) as isize, (i / w) as isize);
+        let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
+        [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| off_within(dx, dy) && off_within(-dx, -dy))
+    };
+    let res = grid.resolution();
+    let near_end = |i: usize| {
+        let k = grid.nearest[i];
+        if k == u32::MAX {
+            return reflex_block(i);
+        }
+        let s = &grid.segments[k as usize];
+        let q = closest_on_segment(grid.center(i), s);
+        (q[0] - s[0][0]).hypot(q[1] - s[0][1]) <= res || (q[0] - s[1][0]).hypot(q[1] - s[1][1]) <= res
+    };
+    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || pinched(i))).collect()
+}
+
+/// The boundary's outward unit normal at cell `i` and the taut-leg cosine that goes with it:
+/// from the nearest obstacle segment when there is one, else from the cells off the region
+/// around it; no normal (no pruning) when neither says.
+fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
+    let c = grid.center(i);
+    if let Some(k) = grid.nearest.get(i).copied().filter(|&k| k != u32::MAX) {
+        let q = closest_on_segment(c, &grid.segments[k as usize]);
+        let d = [c[0] - q[0], c[1] - q[1]];
+        let l = d[0].hypot(d[1]);
+        if l > 1e-9 {
+            return ([d[0] / l, d[1] / l], TAUT_COS);
+        }
+    }
+    let (w, h) = grid.size();
+    let (col, row) = ((i % w) as isize, (i / w) as isize);
+    let mut s = [0.0, 0.0];
+    for dr in -2..=2isize {
+        for dc in -2..=2isize {
+            let (x, y) = (col + dc, row + dr);
+            let off = x < 0 || y < 0 || x >= w as isize || y >= h as isize || !grid.is_nav_cell((y * w as isize + x) as usize);
+            if off && (dc, dr) != (0, 0) {
+                let l = ((dc * dc + dr * dr) as f64).sqrt();
+                s[0] -= dc as f64 / l;
+                s[1] -= dr as f64 / l;
+            }
+        }
+    }
+    let l = s[0].hypot(s[1]);
+    if l > 1e-9 {
+        ([s[0] / l, s[1] / l], TAUT_COS_COARSE)
+    } else {
+        ([0.0, 0.0], 1.0)
+    }
+}
