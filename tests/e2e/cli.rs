@@ -122,6 +122,22 @@ fn bad_input_gives_a_clear_error_not_a_panic() {
     let out = xhab().args(["geodesic", "procedural", "--from", "1,2", "--to", "0,0,0"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--from"));
+    // A dataset whose every episode is invalid (starts far outside the house) is an error
+    // after the report is written, not a table of "-0.000".
+    let d = tmp("all_invalid");
+    let eps = d.join("e.json");
+    let ep = |id: u32| format!(r#"{{"episode_id":"{id}","scene_id":"procedural","start_position":[100,0,100],"start_rotation":[0,0,0,1],"goals":[{{"position":[101,0,100],"radius":0.2}}]}}"#);
+    std::fs::write(&eps, format!(r#"{{"episodes":[{},{}]}}"#, ep(0), ep(1))).unwrap();
+    let r = d.join("r.json");
+    let out = xhab().args(["bench", "--scene", "procedural", "--episodes", eps.to_str().unwrap(), "--out", r.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_ne!(out.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("no valid episode") && stderr.contains("2 invalid"), "{stderr}");
+    assert!(!stdout.contains("-0.000") && !stderr.contains("panicked"), "{stdout}");
+    let j = read_json(&r);
+    assert_eq!(j["aggregate"]["episodes"], 0);
+    assert_eq!(j["invalid"]["count"], 2);
+    assert_eq!(j["aggregate"]["spl"].as_f64().map(f64::is_sign_negative), Some(false));
 }
 
 #[test]
@@ -144,8 +160,9 @@ fn oracle_on_turtlebot3_house_meets_the_acceptance_bar() {
     let j = read_json(&r);
     let a = &j["aggregate"];
     eprintln!("turtlebot3_house oracle: {a} invalid {}", j["invalid"]);
-    assert!(a["success"].as_f64().unwrap() >= 0.97, "{a}");
-    assert!(a["spl"].as_f64().unwrap() >= 0.95, "{a}");
+    // The oracle's known figures on these 26 valid episodes: success 1.000, SPL 0.99.
+    assert_eq!(a["success"].as_f64(), Some(1.0), "{a}");
+    assert!(a["spl"].as_f64().unwrap() >= 0.98, "{a}");
 }
 
 #[test]
@@ -165,7 +182,8 @@ fn bench_under_physics_reports_sim_time_and_stays_close_to_kinematic() {
     assert!(k["aggregate"].get("sim_s").is_none());
     let (sk, sp) = (k["aggregate"]["spl"].as_f64().unwrap(), a["spl"].as_f64().unwrap());
     assert!((sk - sp).abs() <= 0.05, "kinematic SPL {sk} vs physics {sp}");
-    assert!(a["real_time_factor"].as_f64().unwrap() > 1.0);
+    // Present and sane; the speed target (>= 50x) is measured by `xhab perf`, not by a timed test.
+    assert!(a["real_time_factor"].as_f64().unwrap() > 0.0);
 }
 
 #[test]
@@ -180,7 +198,7 @@ fn nav_agent_reaches_goals_under_physics() {
     eprintln!("nav on procedural:6: {a}");
     assert!(a["success"].as_f64().unwrap() >= 5.0 / 6.0, "{a}");
     assert!(a["spl"].as_f64().unwrap() >= 0.7, "{a}");
-    assert!(a["real_time_factor"].as_f64().unwrap() > 1.0, "{a}");
+    assert!(a["real_time_factor"].as_f64().unwrap() > 0.0, "{a}");
     // Localised by AMCL on the same map, with the lidar.
     let r2 = d.join("amcl.json");
     run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--localization", "amcl", "--out", r2.to_str().unwrap(), "--quiet"]);
@@ -190,7 +208,16 @@ fn nav_agent_reaches_goals_under_physics() {
     // A navigation YAML with ROS names is accepted; a typo is named.
     let y = d.join("nav.yaml");
     std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: 0.4\nglobal_costmap:\n  inflation_radius: 0.5\n").unwrap();
-    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", y.to_str().unwrap(), "--quiet"]);
+    let r3 = d.join("params.json");
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", y.to_str().unwrap(), "--out", r3.to_str().unwrap(), "--quiet"]);
+    // The file's values are the ones in effect (the report says so), and they change the run.
+    let j3 = read_json(&r3);
+    let params = &j3["nav"]["params"];
+    assert_eq!(params["DWAPlannerROS"]["max_vel_x"].as_f64(), Some(0.4), "{params}");
+    assert_eq!(params["global_costmap"]["inflation_radius"].as_f64(), Some(0.5), "{params}");
+    assert_eq!(j["nav"]["params"]["DWAPlannerROS"]["max_vel_x"].as_f64(), Some(0.5));
+    let (slow, fast) = (j3["aggregate"]["steps"].as_f64().unwrap(), a["steps"].as_f64().unwrap());
+    assert!(slow > fast, "max_vel_x 0.4 should take longer than 0.5: {slow} vs {fast} control periods");
     std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: fast\n").unwrap();
     let out = xhab().args(["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", y.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));

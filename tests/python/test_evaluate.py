@@ -167,7 +167,16 @@ def test_agent_errors_propagate(episodes):
         xhab.evaluate(42, SCENE, episodes)
 
 
-def test_ctrl_c_interrupts_evaluate(episodes):
+@pytest.fixture
+def sigint():
+    """Python's own Ctrl-C handler, even where the test runner was started with SIGINT
+    ignored (a background job of a non-interactive shell), and the old one put back."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
+def test_ctrl_c_interrupts_evaluate(episodes, sigint):
     steps = []
 
     def agent(obs):
@@ -181,7 +190,7 @@ def test_ctrl_c_interrupts_evaluate(episodes):
     assert len(steps) < 500
 
 
-def test_ctrl_c_interrupts_a_parallel_evaluate(episodes):
+def test_ctrl_c_interrupts_a_parallel_evaluate(episodes, sigint):
     import time
 
     steps = []

@@ -31,8 +31,9 @@ pub struct BenchReport {
     /// intrinsics and mount, depth noise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub camera: Option<serde_json::Value>,
-    /// The nav agent's setup (nav runs only): localisation, scan source and the map AMCL
-    /// localises on.
+    /// The nav agent's setup (nav runs only): localisation, scan source, the map AMCL
+    /// localises on, and the parameters in effect (ROS names: files layered over defaults,
+    /// costmaps sized to the robot).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub nav: Option<serde_json::Value>,
     /// Means over valid episodes.
@@ -79,6 +80,7 @@ impl BenchReport {
                     "scan_source": n.scan.as_ref().map(|s| s.name()),
                     "scan_height_m": n.scan.as_ref().map(|s| s.height()),
                     "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
+                    "params": n.params,
                 })
             }),
             aggregate: aggregate(&runs, wall_s),

@@ -378,7 +378,8 @@ pub struct Failures {
 /// Aggregates episode runs; `wall_s` is the run's elapsed time (s).
 pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
     let n = runs.len().max(1) as f64;
-    let mean = |f: &dyn Fn(&EpisodeMetrics) -> f64| runs.iter().map(|r| f(&r.metrics)).sum::<f64>() / n;
+    // Folded from +0.0 (`sum` starts at -0.0, which an empty run would print as "-0.000").
+    let mean = |f: &dyn Fn(&EpisodeMetrics) -> f64| runs.iter().fold(0.0, |a, r| a + f(&r.metrics)) / n;
     let total_steps: f64 = runs.iter().map(|r| r.metrics.steps as f64).sum();
     let physics = runs.iter().any(|r| r.sim_s.is_some());
     let sim_s: f64 = runs.iter().filter_map(|r| r.sim_s).sum();

@@ -794,7 +794,7 @@ fn generate_episodes(py: Python<'_>, scene: &str, count: usize, seed: u64, out: 
             ensure_parent(p)?;
             xhab_sim::episode::write_dataset(&ds, p).map_err(|e| format!("writing {}: {e}", p.display()))?;
         }
-        Ok(xhab_sim::episode::to_json_string(&ds))
+        Ok(xhab_sim::episode::to_json_string(&ds)?)
     })
     .map_err(|e| py_err(&*e))
 }

@@ -29,6 +29,18 @@ pub enum DatasetError {
         /// What is wrong.
         reason: String,
     },
+    /// A dataset that cannot be written as Habitat JSON (e.g. a non-finite position).
+    #[error("episodes[{index}] ({episode_id}): {field}: {reason}")]
+    Unwritable {
+        /// Index of the episode.
+        index: usize,
+        /// Its id.
+        episode_id: String,
+        /// The field.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 #[derive(Serialize, Deserialize)]
@@ -173,8 +185,29 @@ pub fn quaternion_from_yaw(yaw: f64) -> [f64; 4] {
     [0.0, (theta / 2.0).sin(), 0.0, (theta / 2.0).cos()]
 }
 
-/// The dataset as Habitat JSON text.
-pub fn to_json_string(ds: &Dataset) -> String {
+/// The dataset as Habitat JSON text; fails on what JSON cannot carry (a non-finite position,
+/// rotation, radius or geodesic distance), naming the episode and field.
+pub fn to_json_string(ds: &Dataset) -> Result<String, DatasetError> {
+    for (index, e) in ds.episodes.iter().enumerate() {
+        let bad = |field: String| DatasetError::Unwritable { index, episode_id: e.episode_id.clone(), field, reason: "not a finite number".into() };
+        if !e.start_position.to_habitat().iter().all(|v| v.is_finite()) {
+            return Err(bad("start_position".into()));
+        }
+        if !e.start_yaw.is_finite() {
+            return Err(bad("start_rotation".into()));
+        }
+        if e.geodesic_distance.is_some_and(|d| !d.is_finite()) {
+            return Err(bad("info.geodesic_distance".into()));
+        }
+        for (k, g) in e.goals.iter().enumerate() {
+            if !g.position.to_habitat().iter().all(|v| v.is_finite()) {
+                return Err(bad(format!("goals[{k}].position")));
+            }
+            if !g.radius.is_finite() {
+                return Err(bad(format!("goals[{k}].radius")));
+            }
+        }
+    }
     let file = FileDataset {
         episodes: ds
             .episodes
@@ -195,14 +228,17 @@ pub fn to_json_string(ds: &Dataset) -> String {
             })
             .collect(),
     };
-    serde_json::to_string(&file).unwrap_or_else(|_| "{\"episodes\":[]}".into())
+    serde_json::to_string(&file).map_err(|e| DatasetError::Unwritable { index: 0, episode_id: String::new(), field: "episodes".into(), reason: e.to_string() })
 }
 
 /// Writes the dataset: gzipped when the name ends in `.gz` (fixed level, no timestamp, so
 /// the same dataset gives the same bytes), plain JSON otherwise.
 pub fn write_dataset(ds: &Dataset, path: &Path) -> Result<(), DatasetError> {
     let io = |source| DatasetError::Io { path: path.to_path_buf(), source };
-    let json = to_json_string(ds);
+    let json = to_json_string(ds).map_err(|e| match e {
+        DatasetError::Unwritable { index, episode_id, field, reason } => DatasetError::Schema { path: path.to_path_buf(), field: format!("episodes[{index}] ({episode_id}).{field}"), reason },
+        e => e,
+    })?;
     let bytes = if path.to_string_lossy().ends_with(".gz") {
         let mut enc = flate2::GzBuilder::new().mtime(0).write(Vec::new(), flate2::Compression::new(6));
         enc.write_all(json.as_bytes()).map_err(io)?;
@@ -264,5 +300,17 @@ mod tests {
         let gz = std::fs::read(&p).unwrap();
         std::fs::write(&bad, &gz[..gz.len() / 2]).unwrap();
         assert!(read_dataset(&bad).is_err());
+        // What JSON cannot carry is an error naming the episode and field, never an empty file.
+        let mut nan = ds.clone();
+        nan.episodes[0].goals[0].position.x = f64::NAN;
+        let e = to_json_string(&nan).unwrap_err().to_string();
+        assert_eq!(e, "episodes[0] (7): goals[0].position: not a finite number");
+        let out = dir.join("nan.json");
+        let e = write_dataset(&nan, &out).unwrap_err().to_string();
+        assert!(e.contains("nan.json") && e.contains("goals[0].position"), "{e}");
+        assert!(!out.exists());
+        nan.episodes[0].goals[0].position.x = 3.0;
+        nan.episodes[0].geodesic_distance = Some(f64::INFINITY);
+        assert!(to_json_string(&nan).unwrap_err().to_string().contains("info.geodesic_distance"));
     }
 }

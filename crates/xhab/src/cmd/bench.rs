@@ -47,7 +47,11 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         );
     }
     let differ = r.ros_check.as_ref().is_some_and(|c| !c.identical);
+    let none_valid = r.aggregate.episodes == 0;
     finish(a, &run)?;
+    if none_valid {
+        anyhow::bail!("no valid episode in {} ({} invalid, see the warnings above): every metric is undefined", a.episodes.display(), run.report.invalid.count);
+    }
     if differ {
         anyhow::bail!("--compare-ros: the run over ROS differs from the in-process run (see ros_check in the JSON)");
     }
