@@ -26,23 +26,28 @@ import xhab
 
 def vector_steps_per_s(scene, n, threads, resolution, seconds, renderer, max_steps):
     """Environment steps per second (n per call) with random actions, as habitat's figure:
-    move_forward 1/2, turn_left 1/4, turn_right 1/4. No action is stop, and the step limit is
-    ``max_steps``: by default no episode ends inside the timing, which so times stepping alone,
-    as ``xhab perf`` and habitat's script do (both start their episodes outside the timing)."""
+    move_forward 1/2, turn_left 1/4, turn_right 1/4, from a new start every ``max_steps``
+    (50, as ``xhab perf`` and habitat's script restart). No action is stop, so every
+    environment's episode ends at the same step; the call after it (the autoreset, which
+    sets up new episodes) is left out of the timing, as both peers set up outside theirs."""
     env = xhab.VectorPointNavEnv(n, scene, sensors=("depth",), resolution=resolution, renderer=renderer,
                                  threads=threads, seed=0, max_steps=max_steps)
     env.reset(seed=0)
     rng = np.random.default_rng(0)
     choice = np.array([1, 1, 2, 3])
-    for _ in range(5):
-        env.step(choice[rng.integers(0, 4, n)])
-    steps, t0 = 0, time.perf_counter()
-    while time.perf_counter() - t0 < seconds:
-        env.step(choice[rng.integers(0, 4, n)])
-        steps += n
-    rate = steps / (time.perf_counter() - t0)
+    ended = False
+    steps, spent, t_end = 0, 0.0, time.perf_counter() + seconds * 3
+    while spent < seconds and time.perf_counter() < t_end:
+        actions = choice[rng.integers(0, 4, n)]
+        t0 = time.perf_counter()
+        _, _, terminated, truncated, _ = env.step(actions)
+        dt = time.perf_counter() - t0
+        if not ended:
+            spent += dt
+            steps += n
+        ended = bool((terminated | truncated).any())
     env.close()
-    return rate
+    return steps / spent
 
 
 def cli_depth_steps_per_s(cli, scene, resolution, seconds, renderer):
@@ -70,8 +75,8 @@ def main():
     p.add_argument("--seconds", type=float, default=3.0)
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--renderer", default="auto")
-    p.add_argument("--max-steps", type=int, default=1_000_000,
-                   help="episode step limit (default: none is reached, so resets stay out of the timing)")
+    p.add_argument("--max-steps", type=int, default=50,
+                   help="steps from each start (50, as xhab perf and habitat's script)")
     p.add_argument("--cli", help="the xhab CLI, to run `xhab perf --sensors depth` for comparison")
     p.add_argument("--habitat", help="the habitat peer's folder (../shared/peers/habitat), to time habitat-sim too")
     p.add_argument("--hpython", default="/opt/habpeer/bin/hpython", help="the peer's Python launcher")
