@@ -1,8 +1,9 @@
 //! A move_base-like navigator: plan, control, recover (clear and replan, rotate in place),
 //! abort. Driven by explicit calls with the simulated time; it never reads a clock.
 
-use crate::costmap::{Costmap, CostmapParams, LETHAL};
-use crate::obstacle_layer::{ObstacleLayer, ObstacleParams};
+use crate::costmap::{Costmap, CostmapParams};
+use crate::layered_costmap::LayeredCostmap;
+use crate::obstacle_layer::ObstacleParams;
 use crate::dwa::{Dwa, DwaParams};
 use crate::planner::{plan, PlannerParams};
 use serde::{Deserialize, Serialize};
@@ -109,10 +110,8 @@ pub struct NavCommand {
 pub struct Navigator {
     /// Parameters.
     pub params: NavParams,
-    costmap: Option<Costmap>,
-    /// The static layer inflated alone (the global costmap is rebuilt from it and the marks).
-    static_costmap: Option<Costmap>,
-    obstacles: Option<ObstacleLayer>,
+    /// The global and local costmaps, once a map is set.
+    layers: Option<LayeredCostmap>,
     dwa: Dwa,
     goal: Option<Point2>,
     status: NavStatus,
@@ -134,9 +133,7 @@ impl Navigator {
         dwa.footprint = params.local_costmap.footprint.clone();
         Self {
             params,
-            costmap: None,
-            static_costmap: None,
-            obstacles: None,
+            layers: None,
             dwa,
             goal: None,
             status: NavStatus::Idle,
@@ -153,35 +150,24 @@ impl Navigator {
 
     /// Sets the static map (builds the global costmap).
     pub fn set_map(&mut self, map: &OccupancyGrid) {
-        let cm = Costmap::from_map(map, &self.params.global_costmap);
-        self.obstacles = None;
-        self.static_costmap = Some(cm.clone());
-        self.costmap = Some(cm);
+        let p = &self.params;
+        self.layers = Some(LayeredCostmap::new(map, &p.global_costmap, &p.local_costmap, p.obstacle_layer.clone()));
     }
 
     /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
     /// obstacle layer; from then on the controller works on the rolling local costmap.
     pub fn add_scan(&mut self, scan: &xhab_types::LaserScan, sensor: Pose2) {
-        let Some(st) = &self.static_costmap else { return };
-        let params = self.params.obstacle_layer.clone();
-        self.obstacles.get_or_insert_with(|| ObstacleLayer::new(st, params)).update(scan, sensor);
+        if let Some(l) = self.layers.as_mut() {
+            l.add_scan(scan, sensor);
+        }
     }
 
     /// Clears the obstacle layer's marks (move_base's `clear_costmaps` service): the costmaps
     /// fall back to the static map until new scans arrive.
     pub fn clear_costmaps(&mut self) {
-        self.obstacles = None;
-        self.costmap = self.static_costmap.clone();
-    }
-
-    /// The global costmap with the obstacle layer's marks, re-inflated.
-    fn refresh_global(&mut self) {
-        let (Some(st), Some(ob)) = (&self.static_costmap, &self.obstacles) else { return };
-        let lethal: Vec<bool> = st.cost.iter().enumerate().map(|(i, &c)| c == LETHAL || ob.is_marked(i)).collect();
-        let d = crate::costmap::edt(&lethal, st.width, st.height);
-        let p = &self.params.global_costmap;
-        let cost = (0..lethal.len()).map(|i| if lethal[i] { LETHAL } else { crate::costmap::inflation_cost(d[i] * st.resolution, p).max(st.cost[i]) }).collect();
-        self.costmap = Some(Costmap { cost, ..st.clone() });
+        if let Some(l) = self.layers.as_mut() {
+            l.clear_obstacles();
+        }
     }
 
     /// Sets a new goal (m) at time `now` (s).
@@ -207,13 +193,13 @@ impl Navigator {
     }
     /// The global costmap, once a map is set.
     pub fn costmap(&self) -> Option<&Costmap> {
-        self.costmap.as_ref()
+        self.layers.as_ref().map(|l| l.global())
     }
 
     /// One control cycle at time `now` (s) with the robot at `pose` moving at `vel`.
     pub fn tick(&mut self, now: f64, pose: Pose2, vel: Twist) -> NavCommand {
         let stop = |status| NavCommand { twist: Twist::default(), status };
-        let (Some(goal), Some(_)) = (self.goal, self.costmap.as_ref()) else { return stop(NavStatus::Idle) };
+        let (Some(goal), true) = (self.goal, self.layers.is_some()) else { return stop(NavStatus::Idle) };
         if matches!(self.status, NavStatus::Succeeded | NavStatus::Aborted | NavStatus::Idle) {
             return stop(self.status);
         }
@@ -242,9 +228,9 @@ impl Navigator {
         }
         let replan_due = mb.planner_frequency > 0.0 && now - self.last_plan >= 1.0 / mb.planner_frequency;
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
-            self.refresh_global();
-            let cm = self.costmap.as_ref().expect("checked above");
-            match plan(cm, here, goal, &self.params.planner) {
+            let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
+            layers.update_global();
+            match plan(layers.global(), here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
                     self.dwa.set_plan(&self.plan);
@@ -267,15 +253,8 @@ impl Navigator {
                 }
             }
         }
-        let local;
-        let cm = match (&self.obstacles, &self.static_costmap) {
-            (Some(ob), Some(st)) => {
-                local = ob.local_costmap(st, here, &self.params.local_costmap);
-                &local
-            }
-            _ => self.costmap.as_ref().expect("checked above"),
-        };
-        match self.dwa.compute_velocity(pose, vel, cm) {
+        let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
+        match self.dwa.compute_velocity(pose, vel, layers.local(here)) {
             Ok(t) => {
                 self.control_fail_since = None;
                 NavCommand { twist: t, status: self.status }
@@ -309,8 +288,8 @@ impl Navigator {
         self.plan_fail_since = None;
         self.plan_failures = 0;
         // Clear the costmaps' obstacle marks, as move_base's first recovery.
-        if let Some(ob) = self.obstacles.as_mut() {
-            ob.reset();
+        if let Some(l) = self.layers.as_mut() {
+            l.reset_marks();
         }
         NavCommand { twist: Twist { linear: 0.0, angular: turn }, status: self.status }
     }

@@ -2,7 +2,8 @@
 //! and the rolling local costmap built from it (costmap_2d's obstacle layer and
 //! rolling_window, with the same parameter names).
 
-use crate::costmap::{edt, inflation_cost, Costmap, CostmapParams, LETHAL};
+use crate::cell_bounds::DirtyBounds;
+use crate::costmap::{axis_cell, edt, inflation_cost, Costmap, CostmapParams, LETHAL};
 use serde::{Deserialize, Serialize};
 use xhab_types::{LaserScan, Point2, Pose2};
 
@@ -43,17 +44,52 @@ pub struct ObstacleLayer {
     resolution: f64,
     origin: Point2,
     marked: Vec<bool>,
+    /// Cells whose mark flipped since the last [`ObstacleLayer::take_changes`].
+    changed: DirtyBounds,
+    /// Number of mark flips so far.
+    flips: u64,
 }
 
 impl ObstacleLayer {
     /// An empty layer on the grid of `cm`.
     pub fn new(cm: &Costmap, params: ObstacleParams) -> Self {
-        Self { params, width: cm.width, height: cm.height, resolution: cm.resolution, origin: cm.origin, marked: vec![false; cm.width * cm.height] }
+        Self { params, width: cm.width, height: cm.height, resolution: cm.resolution, origin: cm.origin, marked: vec![false; cm.width * cm.height], changed: DirtyBounds::default(), flips: 0 }
     }
 
     /// Forgets every mark (the "clear costmaps" recovery).
     pub fn reset(&mut self) {
-        self.marked.iter_mut().for_each(|m| *m = false);
+        for i in 0..self.marked.len() {
+            if self.marked[i] {
+                self.set(i, false);
+            }
+        }
+    }
+
+    /// Sets the mark of cell `i`, recording a flip.
+    #[inline]
+    fn set(&mut self, i: usize, v: bool) {
+        if self.marked[i] != v {
+            self.marked[i] = v;
+            self.changed.touch(i % self.width, i / self.width);
+            self.flips += 1;
+        }
+    }
+
+    /// The bounds of the cells whose mark flipped since the last call (costmap_2d's
+    /// `updateBounds`), `None` when none did.
+    pub fn take_changes(&mut self) -> Option<crate::cell_bounds::CellBounds> {
+        self.changed.take()
+    }
+
+    /// How many times a mark flipped since the layer was made (changes between two readings
+    /// mean the marks changed).
+    pub fn flips(&self) -> u64 {
+        self.flips
+    }
+
+    /// The marks, row-major on the costmap's grid.
+    pub fn marks(&self) -> &[bool] {
+        &self.marked
     }
 
     /// Whether cell `i` (index in the costmap's grid) is marked.
@@ -66,10 +102,11 @@ impl ObstacleLayer {
         self.marked.iter().filter(|&&m| m).count()
     }
 
+    #[inline]
     fn cell(&self, p: Point2) -> Option<usize> {
-        let c = ((p.x - self.origin.x) / self.resolution).floor();
-        let r = ((p.y - self.origin.y) / self.resolution).floor();
-        (c >= 0.0 && r >= 0.0 && c < self.width as f64 && r < self.height as f64).then(|| r as usize * self.width + c as usize)
+        let c = axis_cell((p.x - self.origin.x) / self.resolution, self.width)?;
+        let r = axis_cell((p.y - self.origin.y) / self.resolution, self.height)?;
+        Some(r * self.width + c)
     }
 
     /// Clears along each ray and marks its end, for a scan taken at `sensor` (world frame).
@@ -78,6 +115,7 @@ impl ObstacleLayer {
         let o = sensor.position();
         for (i, &r) in scan.ranges.iter().enumerate() {
             let a = sensor.yaw + scan.angle(i);
+            let (sa, ca) = a.sin_cos();
             let valid = r.is_finite() && (r as f64) >= scan.range_min && (r as f64) <= scan.range_max;
             let clear_to = if !p.clearing {
                 0.0
@@ -89,26 +127,29 @@ impl ObstacleLayer {
                 continue;
             };
             // Clear up to (not including) the hit's cell.
-            let hit_cell = valid.then(|| self.cell(Point2::new(o.x + r as f64 * a.cos(), o.y + r as f64 * a.sin()))).flatten();
+            let hit_cell = valid.then(|| self.cell(Point2::new(o.x + r as f64 * ca, o.y + r as f64 * sa))).flatten();
             let n = (clear_to / (self.resolution * 0.5)).ceil() as usize;
+            let mut last = usize::MAX;
             for k in 0..n {
                 let d = k as f64 * self.resolution * 0.5;
-                if let Some(c) = self.cell(Point2::new(o.x + d * a.cos(), o.y + d * a.sin())) {
-                    if Some(c) != hit_cell {
-                        self.marked[c] = false;
+                if let Some(c) = self.cell(Point2::new(o.x + d * ca, o.y + d * sa)) {
+                    if c != last && Some(c) != hit_cell {
+                        self.set(c, false);
                     }
+                    last = c;
                 }
             }
             if p.marking && valid && (r as f64) <= p.obstacle_range {
                 if let Some(c) = hit_cell {
-                    self.marked[c] = true;
+                    self.set(c, true);
                 }
             }
         }
     }
 
     /// The rolling local costmap around `center`: the static map's lethal cells and the
-    /// marks, inflated, over a `local_window`-sided square.
+    /// marks, inflated, over a `local_window`-sided square; built from scratch (the reference
+    /// that [`crate::layered_costmap::LayeredCostmap::local`] keeps up incrementally).
     pub fn local_costmap(&self, global: &Costmap, center: Point2, params: &CostmapParams) -> Costmap {
         let res = global.resolution;
         let half = (self.params.local_window / 2.0 / res).ceil() as isize;
