@@ -48,12 +48,21 @@ pub struct ObstacleLayer {
     changed: DirtyBounds,
     /// Number of mark flips so far.
     flips: u64,
+    /// Marks per tile of `TILE` x `TILE` cells, so that rays skip the stretches where there is
+    /// nothing to clear.
+    tile_marks: Vec<u8>,
+    tiles_w: usize,
 }
+
+/// Side of the tiles whose marks are counted (cells).
+const TILE: usize = 8;
+/// Ray samples looked at together: their stretch is skipped when no mark lies near it.
+const CHUNK: usize = 8;
 
 impl ObstacleLayer {
     /// An empty layer on the grid of `cm`.
     pub fn new(cm: &Costmap, params: ObstacleParams) -> Self {
-        Self { params, width: cm.width, height: cm.height, resolution: cm.resolution, origin: cm.origin, marked: vec![false; cm.width * cm.height], changed: DirtyBounds::default(), flips: 0 }
+        Self { params, width: cm.width, height: cm.height, resolution: cm.resolution, origin: cm.origin, marked: vec![false; cm.width * cm.height], changed: DirtyBounds::default(), flips: 0, tile_marks: vec![0; cm.width.div_ceil(TILE) * cm.height.div_ceil(TILE)], tiles_w: cm.width.div_ceil(TILE) }
     }
 
     /// Forgets every mark (the "clear costmaps" recovery).
@@ -70,8 +79,11 @@ impl ObstacleLayer {
     fn set(&mut self, i: usize, v: bool) {
         if self.marked[i] != v {
             self.marked[i] = v;
-            self.changed.touch(i % self.width, i / self.width);
+            let (c, r) = (i % self.width, i / self.width);
+            self.changed.touch(c, r);
             self.flips += 1;
+            let t = &mut self.tile_marks[(r / TILE) * self.tiles_w + c / TILE];
+            *t = if v { *t + 1 } else { *t - 1 };
         }
     }
 
@@ -109,7 +121,28 @@ impl ObstacleLayer {
         Some(r * self.width + c)
     }
 
+    /// Whether some mark may lie on the ray's stretch from `a` to `b` (world, m): false only
+    /// when every tile within a cell of the stretch's bounding box holds no mark.
+    fn marks_near(&self, a: Point2, b: Point2) -> bool {
+        let inv = 1.0 / self.resolution;
+        let span = |p: f64, q: f64, o: f64, n: usize| {
+            let lo = ((p.min(q) - o) * inv).floor() - 1.0;
+            let hi = ((p.max(q) - o) * inv).floor() + 1.0;
+            if !(hi >= 0.0 && lo < n as f64) {
+                return None;
+            }
+            Some((lo.max(0.0) as usize / TILE, (hi.min(n as f64 - 1.0) as usize) / TILE))
+        };
+        let (Some((tc0, tc1)), Some((tr0, tr1))) = (span(a.x, b.x, self.origin.x, self.width), span(a.y, b.y, self.origin.y, self.height)) else {
+            // Off the map or not a number: look at the samples themselves.
+            return !(a.x.is_finite() && a.y.is_finite() && b.x.is_finite() && b.y.is_finite());
+        };
+        (tr0..=tr1).any(|tr| self.tile_marks[tr * self.tiles_w + tc0..=tr * self.tiles_w + tc1].iter().any(|&m| m > 0))
+    }
+
     /// Clears along each ray and marks its end, for a scan taken at `sensor` (world frame).
+    /// Each ray clears the cells under its samples every half cell, up to (not including) the
+    /// hit's cell; stretches far from every mark are skipped, which changes nothing.
     pub fn update(&mut self, scan: &LaserScan, sensor: Pose2) {
         let p = self.params.clone();
         let o = sensor.position();
@@ -129,14 +162,24 @@ impl ObstacleLayer {
             // Clear up to (not including) the hit's cell.
             let hit_cell = valid.then(|| self.cell(Point2::new(o.x + r as f64 * ca, o.y + r as f64 * sa))).flatten();
             let n = (clear_to / (self.resolution * 0.5)).ceil() as usize;
+            let res = self.resolution;
+            let at = |k: usize| {
+                let d = k as f64 * res * 0.5;
+                Point2::new(o.x + d * ca, o.y + d * sa)
+            };
             let mut last = usize::MAX;
-            for k in 0..n {
-                let d = k as f64 * self.resolution * 0.5;
-                if let Some(c) = self.cell(Point2::new(o.x + d * ca, o.y + d * sa)) {
-                    if c != last && Some(c) != hit_cell {
-                        self.set(c, false);
+            for k0 in (0..n).step_by(CHUNK) {
+                let k1 = (k0 + CHUNK).min(n);
+                if !self.marks_near(at(k0), at(k1 - 1)) {
+                    continue;
+                }
+                for k in k0..k1 {
+                    if let Some(c) = self.cell(at(k)) {
+                        if c != last && Some(c) != hit_cell {
+                            self.set(c, false);
+                        }
+                        last = c;
                     }
-                    last = c;
                 }
             }
             if p.marking && valid && (r as f64) <= p.obstacle_range {
@@ -196,6 +239,55 @@ mod tests {
     fn scan(ranges: Vec<f32>) -> LaserScan {
         let n = ranges.len();
         LaserScan { angle_min: -0.1, angle_max: 0.1, angle_increment: 0.2 / (n - 1) as f64, range_min: 0.1, range_max: 3.5, ranges }
+    }
+
+    /// The update without skipping: every sample of every ray.
+    fn naive_update(marked: &mut [bool], layer: &ObstacleLayer, scan: &LaserScan, sensor: Pose2) {
+        let p = &layer.params;
+        let o = sensor.position();
+        for (i, &r) in scan.ranges.iter().enumerate() {
+            let a = sensor.yaw + scan.angle(i);
+            let valid = r.is_finite() && (r as f64) >= scan.range_min && (r as f64) <= scan.range_max;
+            let clear_to = if valid { (r as f64).min(p.raytrace_range) } else { p.raytrace_range.min(scan.range_max) };
+            let hit_cell = valid.then(|| layer.cell(Point2::new(o.x + r as f64 * a.cos(), o.y + r as f64 * a.sin()))).flatten();
+            let n = (clear_to / (layer.resolution * 0.5)).ceil() as usize;
+            for k in 0..n {
+                let d = k as f64 * layer.resolution * 0.5;
+                if let Some(c) = layer.cell(Point2::new(o.x + d * a.cos(), o.y + d * a.sin())) {
+                    if Some(c) != hit_cell {
+                        marked[c] = false;
+                    }
+                }
+            }
+            if valid && (r as f64) <= p.obstacle_range {
+                if let Some(c) = hit_cell {
+                    marked[c] = true;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn skipping_stretches_without_marks_changes_nothing() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let cm = empty();
+        let mut layer = ObstacleLayer::new(&cm, ObstacleParams::default());
+        let mut reference = vec![false; 100 * 100];
+        for _ in 0..200 {
+            let n = 120;
+            let inc = std::f64::consts::TAU / n as f64;
+            let ranges = (0..n).map(|_| if rng.gen_bool(0.1) { f32::NAN } else { rng.gen_range(0.05..4.0) as f32 }).collect();
+            let s = LaserScan { angle_min: -3.0, angle_max: -3.0 + inc * (n - 1) as f64, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges };
+            // Sometimes from outside the map, looking in.
+            let pose = Pose2::new(rng.gen_range(-1.0..6.0), rng.gen_range(-1.0..6.0), rng.gen_range(-3.2..3.2));
+            naive_update(&mut reference, &layer, &s, pose);
+            layer.update(&s, pose);
+            assert_eq!(layer.marks(), &reference[..]);
+        }
+        assert!(layer.marked_cells() > 10);
+        let counted: usize = layer.tile_marks.iter().map(|&t| t as usize).sum();
+        assert_eq!(counted, layer.marked_cells());
     }
 
     #[test]
