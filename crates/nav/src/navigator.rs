@@ -5,7 +5,7 @@ use crate::costmap::{Costmap, CostmapParams};
 use crate::layered_costmap::LayeredCostmap;
 use crate::obstacle_layer::ObstacleParams;
 use crate::dwa::{Dwa, DwaParams};
-use crate::planner::{plan, PlannerParams};
+use crate::planner::{plan_with, PlanScratch, PlannerParams};
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
@@ -112,6 +112,7 @@ pub struct Navigator {
     pub params: NavParams,
     /// The global and local costmaps, once a map is set.
     layers: Option<LayeredCostmap>,
+    scratch: PlanScratch,
     dwa: Dwa,
     goal: Option<Point2>,
     status: NavStatus,
@@ -134,6 +135,7 @@ impl Navigator {
         Self {
             params,
             layers: None,
+            scratch: PlanScratch::default(),
             dwa,
             goal: None,
             status: NavStatus::Idle,
@@ -230,7 +232,7 @@ impl Navigator {
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
             let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
             layers.update_global();
-            match plan(layers.global(), here, goal, &self.params.planner) {
+            match plan_with(&mut self.scratch, layers.global(), here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
                     self.dwa.set_plan(&self.plan);

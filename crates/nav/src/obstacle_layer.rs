@@ -121,22 +121,20 @@ impl ObstacleLayer {
         Some(r * self.width + c)
     }
 
-    /// Whether some mark may lie on the ray's stretch from `a` to `b` (world, m): false only
-    /// when every tile within a cell of the stretch's bounding box holds no mark.
-    fn marks_near(&self, a: Point2, b: Point2) -> bool {
-        let inv = 1.0 / self.resolution;
-        let span = |p: f64, q: f64, o: f64, n: usize| {
-            let lo = ((p.min(q) - o) * inv).floor() - 1.0;
-            let hi = ((p.max(q) - o) * inv).floor() + 1.0;
+    /// Whether some mark may lie near the ray's stretch from `(x0, y0)` to `(x1, y1)` (in
+    /// cells from the grid's origin): false only when every tile within a cell of the
+    /// stretch's bounding box holds no mark, or the box misses the grid.
+    #[inline]
+    fn marks_near(&self, x0: f64, y0: f64, x1: f64, y1: f64) -> bool {
+        let span = |p: f64, q: f64, n: usize| {
+            let (lo, hi) = (p.min(q) - 1.0, p.max(q) + 1.0);
             if !(hi >= 0.0 && lo < n as f64) {
                 return None;
             }
-            Some((lo.max(0.0) as usize / TILE, (hi.min(n as f64 - 1.0) as usize) / TILE))
+            // Truncation is floor here: both ends are clamped to be non-negative.
+            Some((lo.max(0.0) as usize / TILE, hi.min(n as f64 - 1.0) as usize / TILE))
         };
-        let (Some((tc0, tc1)), Some((tr0, tr1))) = (span(a.x, b.x, self.origin.x, self.width), span(a.y, b.y, self.origin.y, self.height)) else {
-            // Off the map or not a number: look at the samples themselves.
-            return !(a.x.is_finite() && a.y.is_finite() && b.x.is_finite() && b.y.is_finite());
-        };
+        let (Some((tc0, tc1)), Some((tr0, tr1))) = (span(x0, x1, self.width), span(y0, y1, self.height)) else { return false };
         (tr0..=tr1).any(|tr| self.tile_marks[tr * self.tiles_w + tc0..=tr * self.tiles_w + tc1].iter().any(|&m| m > 0))
     }
 
@@ -167,14 +165,33 @@ impl ObstacleLayer {
                 let d = k as f64 * res * 0.5;
                 Point2::new(o.x + d * ca, o.y + d * sa)
             };
+            // The samples in cells, to within a hair: where that cannot decide a sample's cell
+            // (next to a cell edge) the exact position above does.
+            let inv = 1.0 / res;
+            let (ax, ay, bx, by) = ((o.x - self.origin.x) * inv, (o.y - self.origin.y) * inv, 0.5 * ca, 0.5 * sa);
+            const HAIR: f64 = 1e-6;
+            let (wf, hf) = (self.width as f64, self.height as f64);
             let mut last = usize::MAX;
             for k0 in (0..n).step_by(CHUNK) {
                 let k1 = (k0 + CHUNK).min(n);
-                if !self.marks_near(at(k0), at(k1 - 1)) {
+                let (kf0, kf1) = (k0 as f64, (k1 - 1) as f64);
+                if !self.marks_near(ax + kf0 * bx, ay + kf0 * by, ax + kf1 * bx, ay + kf1 * by) {
                     continue;
                 }
                 for k in k0..k1 {
-                    if let Some(c) = self.cell(at(k)) {
+                    let (x, y) = (ax + k as f64 * bx, ay + k as f64 * by);
+                    let inner = x >= HAIR && y >= HAIR && x < wf - HAIR && y < hf - HAIR;
+                    // (Casts truncate, which is floor for these positive values.)
+                    let (cx, cy) = (x as usize, y as usize);
+                    let (fx, fy) = (x - cx as f64, y - cy as f64);
+                    let cell = if inner && fx > HAIR && fx < 1.0 - HAIR && fy > HAIR && fy < 1.0 - HAIR {
+                        Some(cy * self.width + cx)
+                    } else if x > -1.0 && y > -1.0 && x < wf + 1.0 && y < hf + 1.0 {
+                        self.cell(at(k))
+                    } else {
+                        None
+                    };
+                    if let Some(c) = cell {
                         if c != last && Some(c) != hit_cell {
                             self.set(c, false);
                         }
@@ -281,6 +298,8 @@ mod tests {
             let s = LaserScan { angle_min: -3.0, angle_max: -3.0 + inc * (n - 1) as f64, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges };
             // Sometimes from outside the map, looking in.
             let pose = Pose2::new(rng.gen_range(-1.0..6.0), rng.gen_range(-1.0..6.0), rng.gen_range(-3.2..3.2));
+            // Sometimes on a cell corner, looking along the grid: samples fall on cell edges.
+            let pose = if rng.gen_bool(0.3) { Pose2::new(0.05 * rng.gen_range(0..100) as f64, 0.05 * rng.gen_range(0..100) as f64, 3.0 + inc * rng.gen_range(0..4) as f64) } else { pose };
             naive_update(&mut reference, &layer, &s, pose);
             layer.update(&s, pose);
             assert_eq!(layer.marks(), &reference[..]);
