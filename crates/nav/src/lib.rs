@@ -14,6 +14,7 @@ pub mod depth_to_scan;
 pub mod distance_field;
 pub mod dwa;
 pub mod frontier;
+pub mod goal_approach;
 pub mod inflation_table;
 pub mod layered_costmap;
 pub mod map_agreement;
