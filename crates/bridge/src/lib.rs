@@ -11,6 +11,7 @@ pub mod explore;
 pub mod global_localization;
 pub mod gym;
 pub mod nav_agent;
+pub mod nav_perf;
 pub mod report;
 pub mod runner;
 pub mod scan_source;
