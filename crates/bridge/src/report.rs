@@ -74,12 +74,17 @@ impl BenchReport {
                 serde_json::json!({"sensors": images, "renderer": r.renderer.name(), "params": r.params, "noise": r.noise})
             }),
             nav: cfg.nav.as_ref().map(|n| {
-                serde_json::json!({
+                // No nulls: "none" where there is no scan source or no AMCL map, and no
+                // scan height without scans.
+                let mut v = serde_json::json!({
                     "localization": n.localization,
-                    "scan_source": n.scan.as_ref().map(|s| s.name()),
-                    "scan_height_m": n.scan.as_ref().map(|s| s.height()),
-                    "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
-                })
+                    "scan_source": n.scan.as_ref().map_or("none", |s| s.name()),
+                    "amcl_map": if n.localization != Localization::Amcl { "none" } else if n.scan_plane_localization() { "scan_plane" } else { "map" },
+                });
+                if let Some(s) = n.scan.as_ref() {
+                    v["scan_height_m"] = serde_json::json!(s.height());
+                }
+                v
             }),
             aggregate: aggregate(&runs, wall_s),
             invalid: InvalidReport { count: invalid.len(), episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(), reasons: invalid },
