@@ -14,6 +14,7 @@ pub mod global_localization;
 pub mod gym;
 pub mod map_picture;
 pub mod nav_agent;
+pub mod nav_perf;
 pub mod report;
 pub mod runner;
 pub mod scan_source;

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::Instant;
 use xhab_nav::amcl::Amcl;
-use xhab_nav::navigator::{NavParams, NavStatus, Navigator};
+use xhab_nav::navigator::{AbortReason, NavParams, NavStatus, Navigator};
 use xhab_sim::env::{DiscreteEnv, EnvView};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
@@ -45,6 +45,16 @@ pub struct NavSetup {
 }
 
 impl NavSetup {
+    /// The setup for a benchmark whose success radius is `success_distance` (m): the
+    /// navigator's goal approach allows for it (unless the parameters set their own).
+    pub fn scored(&self, success_distance: f64) -> NavSetup {
+        let mut s = self.clone();
+        if !(s.params.goal_approach.success_radius > 0.0) {
+            s.params.goal_approach.success_radius = success_distance;
+        }
+        s
+    }
+
     /// Whether AMCL localises on the scan-plane map ([`localization_map`]) rather than on the
     /// navigation map.
     pub fn scan_plane_localization(&self) -> bool {
@@ -103,6 +113,8 @@ pub struct NavBrain {
     scans: ScanSchedule,
     err_sum: [f64; 2],
     err_n: usize,
+    /// Position error (m) and filter spread (m) at the last AMCL update.
+    last_fix: Option<[f64; 2]>,
 }
 
 /// What the navigator asks for after a step.
@@ -147,7 +159,7 @@ impl NavBrain {
             a.init(start, sxy, syaw);
             a
         });
-        NavBrain { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0 }
+        NavBrain { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0, last_fix: None }
     }
 
     /// A new goal (m, map frame) at time `now` (s): the filter and the costmaps live on.
@@ -189,12 +201,19 @@ impl NavBrain {
             self.scans.taken += 1;
             if let Some(a) = self.amcl.as_mut() {
                 if a.update(inp.odom, scan, inp.scan_mount) {
-                    self.map_to_odom = a.map_to_odom();
+                    let (estimate, m2o) = a.estimate_and_map_to_odom();
+                    self.map_to_odom = m2o;
                     pose = self.map_to_odom.compose(inp.odom);
+                    // The goal check allows for the filter's spread (one standard deviation of
+                    // the position, both axes together).
+                    let spread = (estimate.variance[0] + estimate.variance[1]).max(0.0).sqrt();
+                    self.nav.set_localization_spread(spread);
                     if let Some(truth) = inp.truth {
-                        self.err_sum[0] += pose.position().dist(truth.position());
+                        let err = pose.position().dist(truth.position());
+                        self.err_sum[0] += err;
                         self.err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
                         self.err_n += 1;
+                        self.last_fix = Some([err, spread]);
                     }
                 }
             }
@@ -222,6 +241,17 @@ impl NavBrain {
     /// The navigator.
     pub fn navigator(&self) -> &Navigator {
         &self.nav
+    }
+
+    /// Why the navigator gave up, once it has.
+    pub fn abort_reason(&self) -> Option<AbortReason> {
+        self.nav.abort_reason()
+    }
+
+    /// Position error against ground truth (m) and the filter's position spread (m) at the
+    /// last AMCL update; `None` before any (or without ground truth).
+    pub fn last_fix(&self) -> Option<[f64; 2]> {
+        self.last_fix
     }
 
     /// Mean localisation error so far: position (m), heading (rad); `None` before any update.
@@ -254,6 +284,8 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
     // (f32 map resolution and scan angles, yaw through a quaternion), so that a run over ROS
     // is identical to this one.
     use crate::ros::convert as cv;
+    let scored = setup.scored(cfg.task.success_distance);
+    let setup = &scored;
     let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
     let map = cv::grid_from_msg(&cv::occupancy_grid(0.0, &map)).expect("a map converts to its own message");
     let amcl_map = match localization_map(setup, grid, scene) {
@@ -310,7 +342,9 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         wall_s: t0.elapsed().as_secs_f64(),
         trajectory: traj,
         sim_s: Some(env.sim_s()),
-        stuck: Some(env.stuck() || aborted),
+        stuck: Some(env.stuck()),
+        abort_reason: aborted.then(|| brain.abort_reason().map_or("unknown", AbortReason::as_str).to_string()),
+        final_localization: brain.last_fix(),
         localization_error: brain.localization_error(),
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
         ros: None,

@@ -75,13 +75,18 @@ impl BenchReport {
                 serde_json::json!({"sensors": images, "renderer": r.renderer.name(), "params": r.params, "noise": r.noise})
             }),
             nav: cfg.nav.as_ref().map(|n| {
-                serde_json::json!({
+                // No nulls: "none" where there is no scan source or no AMCL map, and no
+                // scan height without scans.
+                let mut v = serde_json::json!({
                     "localization": n.localization,
-                    "scan_source": n.scan.as_ref().map(|s| s.name()),
-                    "scan_height_m": n.scan.as_ref().map(|s| s.height()),
-                    "amcl_map": if n.localization != Localization::Amcl { None } else if n.scan_plane_localization() { Some("scan_plane") } else { Some("map") },
+                    "scan_source": n.scan.as_ref().map_or("none", |s| s.name()),
+                    "amcl_map": if n.localization != Localization::Amcl { "none" } else if n.scan_plane_localization() { "scan_plane" } else { "map" },
                     "params": n.params,
-                })
+                });
+                if let Some(s) = n.scan.as_ref() {
+                    v["scan_height_m"] = serde_json::json!(s.height());
+                }
+                v
             }),
             aggregate: aggregate(&runs, wall_s),
             invalid: InvalidReport { count: invalid.len(), episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(), reasons: invalid },
@@ -155,6 +160,28 @@ pub struct EpisodeReport {
     /// Whether the robot got stuck, physics runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stuck: Option<bool>,
+    /// Whether the agent gave up (the nav agent's navigator aborted).
+    pub aborted: bool,
+    /// Why it gave up: `goal_unreachable_for_costmap`, `start_blocked`, `controller_failed`,
+    /// `no_progress`, or `unknown` (over ROS).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub abort_reason: Option<String>,
+    /// Why the episode failed (failed episodes only): `stuck`, `goal_unreachable_for_costmap`,
+    /// `aborted`, `stopped_outside` or `step_limit`, as the aggregate's `failures` count them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
+    /// Whether the agent ended off its navigable region: `distance_to_goal` is then the
+    /// geodesic from the nearest navigable point plus `off_navigable_m`.
+    pub off_navigable: bool,
+    /// Distance from the final position to the nearest navigable point (m), when off it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub off_navigable_m: Option<f64>,
+    /// Localisation position error at the filter's last update (m), AMCL runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_localization_error_m: Option<f64>,
+    /// The filter's position spread at its last update (m, one standard deviation), AMCL runs only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_localization_spread_m: Option<f64>,
     /// Mean localisation position error (m), AMCL runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub localization_error_m: Option<f64>,
@@ -203,6 +230,13 @@ impl From<&EpisodeRun> for EpisodeReport {
             sim_s: r.sim_s,
             real_time_factor: r.sim_s.map(|s| if r.wall_s > 0.0 { s / r.wall_s } else { 0.0 }),
             stuck: r.stuck,
+            aborted: r.abort_reason.is_some(),
+            abort_reason: r.abort_reason.clone(),
+            failure: crate::runner::failure_cause(r).map(str::to_string),
+            off_navigable: m.off_navigable_m.is_some(),
+            off_navigable_m: m.off_navigable_m,
+            final_localization_error_m: r.final_localization.map(|f| f[0]),
+            final_localization_spread_m: r.final_localization.map(|f| f[1]),
             localization_error_m: r.localization_error.map(|e| e[0]),
             localization_error_deg: r.localization_error.map(|e| e[1].to_degrees()),
             frames: r.render.map(|r| r.0),

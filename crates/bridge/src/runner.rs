@@ -15,6 +15,7 @@ use xhab_sim::metrics::EpisodeMetrics;
 use xhab_sim::world::World;
 use xhab_sim::sensors::{CameraFrame, CameraRig};
 use xhab_types::Pose2;
+use xhab_nav::navigator::AbortReason;
 
 /// How to run a benchmark.
 #[derive(Debug, Clone)]
@@ -82,6 +83,14 @@ pub struct EpisodeRun {
     pub sim_s: Option<f64>,
     /// Whether the robot got stuck (no progress over the stuck window), physics runs only.
     pub stuck: Option<bool>,
+    /// Why the navigator gave up, when it did (nav runs): `goal_unreachable_for_costmap`,
+    /// `start_blocked`, `controller_failed`, `no_progress`, or `unknown` (over ROS).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub abort_reason: Option<String>,
+    /// Localisation position error (m) and the filter's position spread (m) at its last
+    /// update (AMCL runs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub final_localization: Option<[f64; 2]>,
     /// Mean localisation error against ground truth: position (m), heading (rad), over the
     /// filter's updates (AMCL runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -235,6 +244,8 @@ fn drive_episode(mut made: MadeEnv, grid: &xhab_sim::navgrid::NavGrid, ep: &Epis
         trajectory: traj,
         sim_s,
         stuck,
+        abort_reason: None,
+        final_localization: None,
         localization_error: None,
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
         ros: None,
@@ -364,7 +375,8 @@ pub struct Aggregate {
     pub render_frames_per_s: Option<f64>,
 }
 
-/// Why episodes failed (each failed episode counts once, in the first matching cause).
+/// Why episodes failed (each failed episode counts once, in the first matching cause, in
+/// the order of [`failure_cause`]).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Failures {
     /// The robot got stuck (physics).
@@ -373,6 +385,31 @@ pub struct Failures {
     pub stopped_outside: usize,
     /// The step limit ran out before stop.
     pub step_limit: usize,
+    /// The navigator gave up because the goal is blocked or cut off in its costmap (nav runs).
+    #[serde(default)]
+    pub goal_unreachable_for_costmap: usize,
+    /// The navigator gave up for another reason (nav runs; `abort_reason` says which).
+    #[serde(default)]
+    pub aborted: usize,
+}
+
+/// Why an episode failed, `None` when it succeeded: `stuck`, `goal_unreachable_for_costmap`,
+/// `aborted` (the navigator gave up otherwise), `stopped_outside` or `step_limit`.
+pub fn failure_cause(r: &EpisodeRun) -> Option<&'static str> {
+    if r.metrics.success >= 1.0 {
+        return None;
+    }
+    Some(if r.stuck == Some(true) {
+        "stuck"
+    } else if r.abort_reason.as_deref() == Some(AbortReason::GoalUnreachableForCostmap.as_str()) {
+        "goal_unreachable_for_costmap"
+    } else if r.abort_reason.is_some() {
+        "aborted"
+    } else if r.metrics.called_stop {
+        "stopped_outside"
+    } else {
+        "step_limit"
+    })
 }
 
 /// Aggregates episode runs; `wall_s` is the run's elapsed time (s).
@@ -384,13 +421,14 @@ pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
     let physics = runs.iter().any(|r| r.sim_s.is_some());
     let sim_s: f64 = runs.iter().filter_map(|r| r.sim_s).sum();
     let mut failures = Failures::default();
-    for r in runs.iter().filter(|r| r.metrics.success < 1.0) {
-        if r.stuck == Some(true) {
-            failures.stuck += 1;
-        } else if r.metrics.called_stop {
-            failures.stopped_outside += 1;
-        } else {
-            failures.step_limit += 1;
+    for r in runs {
+        match failure_cause(r) {
+            Some("stuck") => failures.stuck += 1,
+            Some("goal_unreachable_for_costmap") => failures.goal_unreachable_for_costmap += 1,
+            Some("aborted") => failures.aborted += 1,
+            Some("stopped_outside") => failures.stopped_outside += 1,
+            Some(_) => failures.step_limit += 1,
+            None => {}
         }
     }
     let loc: Vec<[f64; 2]> = runs.iter().filter_map(|r| r.localization_error).collect();

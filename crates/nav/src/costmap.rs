@@ -128,10 +128,11 @@ impl Costmap {
     }
 
     /// Cell (col, row) of world point `p`, if inside.
+    #[inline]
     pub fn cell(&self, p: Point2) -> Option<(usize, usize)> {
-        let c = ((p.x - self.origin.x) / self.resolution).floor();
-        let r = ((p.y - self.origin.y) / self.resolution).floor();
-        (c >= 0.0 && r >= 0.0 && c < self.width as f64 && r < self.height as f64).then_some((c as usize, r as usize))
+        let c = axis_cell((p.x - self.origin.x) / self.resolution, self.width)?;
+        let r = axis_cell((p.y - self.origin.y) / self.resolution, self.height)?;
+        Some((c, r))
     }
 
     /// World centre of cell (col, row) (m).
@@ -140,9 +141,17 @@ impl Costmap {
     }
 
     /// Cost at world point `p`; LETHAL outside the map.
+    #[inline]
     pub fn cost_at(&self, p: Point2) -> u8 {
         self.cell(p).map_or(LETHAL, |(c, r)| self.cost[r * self.width + c])
     }
+}
+
+/// The cell index `floor(x)` along an axis of `n` cells, if in `0..n` (`x` in cells; NaN is
+/// outside). Truncation equals `floor` for the non-negative values kept, without a libm call.
+#[inline]
+pub fn axis_cell(x: f64, n: usize) -> Option<usize> {
+    (x >= 0.0 && x < n as f64).then(|| x as usize)
 }
 
 /// Distance (in cells) from each cell centre to the nearest `true` cell centre (exact EDT).

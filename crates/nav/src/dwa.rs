@@ -174,11 +174,12 @@ impl Dwa {
         let (v_lo, v_hi) = ((vel.linear - p.acc_lim_x * dt).max(p.min_vel_x).max(-p.max_vel_trans), (vel.linear + p.acc_lim_x * dt).min(p.max_vel_x).min(p.max_vel_trans));
         let (w_lo, w_hi) = ((vel.angular - p.acc_lim_theta * dt).max(-p.max_vel_theta), (vel.angular + p.acc_lim_theta * dt).min(p.max_vel_theta));
         let mut best: Option<(f64, Twist)> = None;
+        let mut along = PathWindow::new(window, lg);
         for i in 0..p.vx_samples.max(1) {
             let v = if p.vx_samples <= 1 { v_hi } else { v_lo + (v_hi - v_lo) * i as f64 / (p.vx_samples - 1) as f64 };
             for j in 0..p.vth_samples.max(1) {
                 let w = if p.vth_samples <= 1 { 0.0 } else { w_lo + (w_hi - w_lo) * j as f64 / (p.vth_samples - 1) as f64 };
-                let Some(score) = self.score(pose, v, w, cm, window, lg) else { continue };
+                let Some(score) = self.score(pose, v, w, cm, &mut along) else { continue };
                 if best.is_none_or(|b| score < b.0) {
                     best = Some((score, Twist { linear: v, angular: w }));
                 }
@@ -206,7 +207,7 @@ impl Dwa {
     }
 
     /// Cost of the rollout at (v, w): lower is better; `None` when it hits an obstacle.
-    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, window: &[Pose2], lg: Point2) -> Option<f64> {
+    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, along: &mut PathWindow<'_>) -> Option<f64> {
         let p = &self.params;
         let steps = ((v.abs() * p.sim_time / p.sim_granularity).max(w.abs() * p.sim_time / 0.1)).ceil().max(1.0) as usize;
         let dt = p.sim_time / steps as f64;
@@ -215,8 +216,14 @@ impl Dwa {
         // A robot that already stands in the inscribed zone (a start close to furniture, the
         // map's cells being coarser than the geometry) may move through it, never deeper.
         let start_cost = cm.cost_at(pose.position());
+        // The heading's sine and cosine, worked out again only when it changes.
+        let (mut yaw, (mut sy, mut cy)) = (q.yaw, q.yaw.sin_cos());
         for _ in 0..steps {
-            q = Pose2::new(q.x + v * q.yaw.cos() * dt, q.y + v * q.yaw.sin() * dt, normalize_angle(q.yaw + w * dt));
+            if q.yaw.to_bits() != yaw.to_bits() {
+                yaw = q.yaw;
+                (sy, cy) = yaw.sin_cos();
+            }
+            q = Pose2::new(q.x + v * cy * dt, q.y + v * sy * dt, normalize_angle(q.yaw + w * dt));
             let c = cm.cost_at(q.position());
             if c >= LETHAL || (c >= INSCRIBED && c > start_cost) || !self.footprint_clear(q, cm) {
                 return None;
@@ -231,18 +238,50 @@ impl Dwa {
         let fp = if near_end || !crate::planner::segment_cost_ok(cm, q.position(), ahead, INSCRIBED) { q.position() } else { ahead };
         // Distance to the path, and to the local goal along the path from the path point
         // nearest to the scored point (not the straight line, which cuts corners).
+        let (near_i, path_d) = along.nearest(fp);
+        let goal_d = path_d + along.remaining(near_i) + along.end_to_goal;
+        let res = cm.resolution;
+        Some(p.path_distance_bias * path_d / res + p.goal_distance_bias * goal_d / res + p.occdist_scale * max_cost as f64)
+    }
+}
+
+/// The stretch of the plan the rollouts of one cycle are scored against, with what every
+/// rollout would otherwise work out again: the length left from each point (summed in the
+/// same order as a single rollout does) and the end's distance to the local goal.
+struct PathWindow<'a> {
+    points: &'a [Pose2],
+    remaining: Vec<Option<f64>>,
+    end_to_goal: f64,
+}
+
+impl<'a> PathWindow<'a> {
+    fn new(points: &'a [Pose2], lg: Point2) -> Self {
+        let end_to_goal = lg.dist(points[points.len() - 1].position());
+        Self { points, remaining: vec![None; points.len()], end_to_goal }
+    }
+
+    /// The first point nearest to `fp` and its distance (m). Squared distances narrow the
+    /// candidates down to near-ties, which the exact distance settles in plan order.
+    fn nearest(&self, fp: Point2) -> (usize, f64) {
+        let sq = |a: &Pose2| (a.x - fp.x) * (a.x - fp.x) + (a.y - fp.y) * (a.y - fp.y);
+        let least = self.points.iter().map(sq).fold(f64::INFINITY, f64::min);
         let (mut near_i, mut path_d) = (0, f64::INFINITY);
-        for (i, a) in window.iter().enumerate() {
+        for (i, a) in self.points.iter().enumerate() {
+            if !(sq(a) <= least * (1.0 + 1e-9)) {
+                continue;
+            }
             let d = a.position().dist(fp);
             if d < path_d {
                 path_d = d;
                 near_i = i;
             }
         }
-        let remaining: f64 = window[near_i..].windows(2).map(|w| w[0].position().dist(w[1].position())).sum();
-        let goal_d = path_d + remaining + lg.dist(window[window.len() - 1].position());
-        let res = cm.resolution;
-        Some(p.path_distance_bias * path_d / res + p.goal_distance_bias * goal_d / res + p.occdist_scale * max_cost as f64)
+        (near_i, path_d)
+    }
+
+    /// Path length from point `i` to the window's end (m).
+    fn remaining(&mut self, i: usize) -> f64 {
+        *self.remaining[i].get_or_insert_with(|| self.points[i..].windows(2).map(|w| w[0].position().dist(w[1].position())).sum())
     }
 }
 

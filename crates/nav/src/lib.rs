@@ -7,11 +7,16 @@
 #![warn(missing_docs)]
 
 pub mod amcl;
+pub mod cell_bounds;
 pub mod costmap;
 pub mod depth_projection;
 pub mod depth_to_scan;
+pub mod distance_field;
 pub mod dwa;
 pub mod frontier;
+pub mod goal_approach;
+pub mod inflation_table;
+pub mod layered_costmap;
 pub mod map_agreement;
 pub mod map_server;
 pub mod mapping;

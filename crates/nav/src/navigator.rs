@@ -1,10 +1,12 @@
 //! A move_base-like navigator: plan, control, recover (clear and replan, rotate in place),
 //! abort. Driven by explicit calls with the simulated time; it never reads a clock.
 
-use crate::costmap::{Costmap, CostmapParams, LETHAL};
-use crate::obstacle_layer::{ObstacleLayer, ObstacleParams};
+use crate::costmap::{Costmap, CostmapParams};
+use crate::layered_costmap::LayeredCostmap;
+use crate::obstacle_layer::ObstacleParams;
 use crate::dwa::{Dwa, DwaParams};
-use crate::planner::{plan, PlannerParams};
+use crate::goal_approach::{approach_command, goal_check, round_footprint, GoalApproachParams, GoalCheck};
+use crate::planner::{plan_with, PlanError, PlanScratch, PlannerParams};
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
@@ -30,6 +32,9 @@ pub struct NavParams {
     pub obstacle_layer: ObstacleParams,
     /// Localisation by AMCL (when it is the localisation source).
     pub amcl: crate::amcl::AmclParams,
+    /// When to stop at the goal under localisation uncertainty, and the final approach to
+    /// goals the inflated costmap blocks (xhab's).
+    pub goal_approach: GoalApproachParams,
 }
 
 /// move_base's own parameters (ROS names; xhab's defaults where they depart from noetic's,
@@ -95,6 +100,34 @@ pub enum NavStatus {
     Aborted,
 }
 
+/// Why the navigator gave up (the trouble that used up its recoveries).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AbortReason {
+    /// The goal is blocked or cut off in the global costmap: no free cell within the
+    /// planner's `default_tolerance`, no path to it, or the final approach on the footprint
+    /// could not get there.
+    GoalUnreachableForCostmap,
+    /// The start is blocked or off the map: no plan can begin.
+    StartBlocked,
+    /// The controller found no valid velocity for `controller_patience`.
+    ControllerFailed,
+    /// No `oscillation_distance` of progress within `oscillation_timeout`.
+    NoProgress,
+}
+
+impl AbortReason {
+    /// The reason as the reports spell it (snake case).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            AbortReason::GoalUnreachableForCostmap => "goal_unreachable_for_costmap",
+            AbortReason::StartBlocked => "start_blocked",
+            AbortReason::ControllerFailed => "controller_failed",
+            AbortReason::NoProgress => "no_progress",
+        }
+    }
+}
+
 /// The navigator's output for one tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NavCommand {
@@ -109,10 +142,9 @@ pub struct NavCommand {
 pub struct Navigator {
     /// Parameters.
     pub params: NavParams,
-    costmap: Option<Costmap>,
-    /// The static layer inflated alone (the global costmap is rebuilt from it and the marks).
-    static_costmap: Option<Costmap>,
-    obstacles: Option<ObstacleLayer>,
+    /// The global and local costmaps, once a map is set.
+    layers: Option<LayeredCostmap>,
+    scratch: PlanScratch,
     dwa: Dwa,
     goal: Option<Point2>,
     status: NavStatus,
@@ -125,6 +157,12 @@ pub struct Navigator {
     progress_mark: (f64, Point2),
     recoveries: u32,
     recovery_until: f64,
+    /// Why it gave up, once aborted.
+    abort_reason: Option<AbortReason>,
+    /// Standard deviation of the localisation's position (m): 0 unless told.
+    spread: f64,
+    /// When the final approach (refining, or past the plan's end) began.
+    approach_since: Option<f64>,
 }
 
 impl Navigator {
@@ -134,9 +172,8 @@ impl Navigator {
         dwa.footprint = params.local_costmap.footprint.clone();
         Self {
             params,
-            costmap: None,
-            static_costmap: None,
-            obstacles: None,
+            layers: None,
+            scratch: PlanScratch::default(),
             dwa,
             goal: None,
             status: NavStatus::Idle,
@@ -148,40 +185,43 @@ impl Navigator {
             progress_mark: (0.0, Point2::default()),
             recoveries: 0,
             recovery_until: 0.0,
+            abort_reason: None,
+            spread: 0.0,
+            approach_since: None,
         }
+    }
+
+    /// The localisation's position spread (m, one standard deviation; 0 for ground truth):
+    /// the goal check allows for it.
+    pub fn set_localization_spread(&mut self, spread: f64) {
+        self.spread = spread;
+    }
+
+    /// Why the navigator gave up (once [`NavStatus::Aborted`]).
+    pub fn abort_reason(&self) -> Option<AbortReason> {
+        self.abort_reason
     }
 
     /// Sets the static map (builds the global costmap).
     pub fn set_map(&mut self, map: &OccupancyGrid) {
-        let cm = Costmap::from_map(map, &self.params.global_costmap);
-        self.obstacles = None;
-        self.static_costmap = Some(cm.clone());
-        self.costmap = Some(cm);
+        let p = &self.params;
+        self.layers = Some(LayeredCostmap::new(map, &p.global_costmap, &p.local_costmap, p.obstacle_layer.clone()));
     }
 
     /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
     /// obstacle layer; from then on the controller works on the rolling local costmap.
     pub fn add_scan(&mut self, scan: &xhab_types::LaserScan, sensor: Pose2) {
-        let Some(st) = &self.static_costmap else { return };
-        let params = self.params.obstacle_layer.clone();
-        self.obstacles.get_or_insert_with(|| ObstacleLayer::new(st, params)).update(scan, sensor);
+        if let Some(l) = self.layers.as_mut() {
+            l.add_scan(scan, sensor);
+        }
     }
 
     /// Clears the obstacle layer's marks (move_base's `clear_costmaps` service): the costmaps
     /// fall back to the static map until new scans arrive.
     pub fn clear_costmaps(&mut self) {
-        self.obstacles = None;
-        self.costmap = self.static_costmap.clone();
-    }
-
-    /// The global costmap with the obstacle layer's marks, re-inflated.
-    fn refresh_global(&mut self) {
-        let (Some(st), Some(ob)) = (&self.static_costmap, &self.obstacles) else { return };
-        let lethal: Vec<bool> = st.cost.iter().enumerate().map(|(i, &c)| c == LETHAL || ob.is_marked(i)).collect();
-        let d = crate::costmap::edt(&lethal, st.width, st.height);
-        let p = &self.params.global_costmap;
-        let cost = (0..lethal.len()).map(|i| if lethal[i] { LETHAL } else { crate::costmap::inflation_cost(d[i] * st.resolution, p).max(st.cost[i]) }).collect();
-        self.costmap = Some(Costmap { cost, ..st.clone() });
+        if let Some(l) = self.layers.as_mut() {
+            l.clear_obstacles();
+        }
     }
 
     /// Sets a new goal (m) at time `now` (s).
@@ -194,6 +234,8 @@ impl Navigator {
         self.plan_failures = 0;
         self.control_fail_since = None;
         self.recoveries = 0;
+        self.abort_reason = None;
+        self.approach_since = None;
         self.progress_mark = (now, Point2::new(f64::NAN, f64::NAN));
     }
 
@@ -207,21 +249,33 @@ impl Navigator {
     }
     /// The global costmap, once a map is set.
     pub fn costmap(&self) -> Option<&Costmap> {
-        self.costmap.as_ref()
+        self.layers.as_ref().map(|l| l.global())
     }
 
     /// One control cycle at time `now` (s) with the robot at `pose` moving at `vel`.
     pub fn tick(&mut self, now: f64, pose: Pose2, vel: Twist) -> NavCommand {
         let stop = |status| NavCommand { twist: Twist::default(), status };
-        let (Some(goal), Some(_)) = (self.goal, self.costmap.as_ref()) else { return stop(NavStatus::Idle) };
+        let (Some(goal), true) = (self.goal, self.layers.is_some()) else { return stop(NavStatus::Idle) };
         if matches!(self.status, NavStatus::Succeeded | NavStatus::Aborted | NavStatus::Idle) {
             return stop(self.status);
         }
         let here = pose.position();
-        if here.dist(goal) <= self.params.dwa.xy_goal_tolerance {
-            self.status = NavStatus::Succeeded;
-            return stop(self.status);
+        let tolerance = self.params.dwa.xy_goal_tolerance;
+        match goal_check(here.dist(goal), tolerance, self.spread, &self.params.goal_approach) {
+            GoalCheck::Reached => {
+                self.status = NavStatus::Succeeded;
+                return stop(self.status);
+            }
+            GoalCheck::Unsure if self.status != NavStatus::Recovering => return self.final_approach(now, pose, goal, true),
+            _ => {}
         }
+        // A plan that ends short of the goal (the goal blocked in the costmap, a free cell
+        // within default_tolerance taken instead): past its end, the footprint decides.
+        let short_end = self.plan.last().map(|e| e.position()).filter(|e| e.dist(goal) > 1e-6);
+        if self.status == NavStatus::Controlling && short_end.is_some_and(|e| here.dist(e) <= tolerance.max(self.params.goal_approach.refine_distance)) {
+            return self.final_approach(now, pose, goal, false);
+        }
+        self.approach_since = None;
         if self.progress_mark.1.x.is_nan() {
             self.progress_mark = (now, here);
         }
@@ -238,13 +292,13 @@ impl Navigator {
         if here.dist(self.progress_mark.1) >= mb.oscillation_distance {
             self.progress_mark = (now, here);
         } else if mb.oscillation_timeout > 0.0 && now - self.progress_mark.0 > mb.oscillation_timeout {
-            return self.recover(now, "no progress");
+            return self.recover(now, AbortReason::NoProgress);
         }
         let replan_due = mb.planner_frequency > 0.0 && now - self.last_plan >= 1.0 / mb.planner_frequency;
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
-            self.refresh_global();
-            let cm = self.costmap.as_ref().expect("checked above");
-            match plan(cm, here, goal, &self.params.planner) {
+            let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
+            layers.update_global();
+            match plan_with(&mut self.scratch, layers.global(), here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
                     self.dwa.set_plan(&self.plan);
@@ -260,22 +314,19 @@ impl Navigator {
                     // As move_base: `max_planning_retries` < 0 never runs out.
                     let retries_out = u32::try_from(mb.max_planning_retries).is_ok_and(|m| self.plan_failures > m);
                     if now - since > mb.planner_patience || retries_out {
-                        return self.recover(now, if retries_out { "max planning retries" } else { "planner patience" });
+                        let why = match e {
+                            PlanError::StartOutsideMap | PlanError::StartOccupied => AbortReason::StartBlocked,
+                            _ => AbortReason::GoalUnreachableForCostmap,
+                        };
+                        return self.recover(now, why);
                     }
                     self.status = NavStatus::Planning;
                     return stop(self.status);
                 }
             }
         }
-        let local;
-        let cm = match (&self.obstacles, &self.static_costmap) {
-            (Some(ob), Some(st)) => {
-                local = ob.local_costmap(st, here, &self.params.local_costmap);
-                &local
-            }
-            _ => self.costmap.as_ref().expect("checked above"),
-        };
-        match self.dwa.compute_velocity(pose, vel, cm) {
+        let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
+        match self.dwa.compute_velocity(pose, vel, layers.local(here)) {
             Ok(t) => {
                 self.control_fail_since = None;
                 NavCommand { twist: t, status: self.status }
@@ -283,7 +334,7 @@ impl Navigator {
             Err(_) => {
                 let since = *self.control_fail_since.get_or_insert(now);
                 if now - since > mb.controller_patience {
-                    return self.recover(now, "controller patience");
+                    return self.recover(now, AbortReason::ControllerFailed);
                 }
                 // Replan right away: the plan may run through a spot the robot cannot take.
                 self.status = NavStatus::Planning;
@@ -292,11 +343,48 @@ impl Navigator {
         }
     }
 
-    fn recover(&mut self, now: f64, why: &str) -> NavCommand {
+    /// The final approach at time `now` from `pose` to `goal`: straight, checked on the
+    /// footprint alone. `refine`: the estimate is within tolerance but not sure enough, so it
+    /// drives down to `refine_distance` and then turns in place (the localisation updates on
+    /// turning) until sure or out of time, when it stops on the estimate. Otherwise the plan
+    /// ended short of a goal the costmap blocks; blocked or out of time, that is the goal
+    /// being unreachable for the costmap.
+    fn final_approach(&mut self, now: f64, pose: Pose2, goal: Point2, refine: bool) -> NavCommand {
+        let here = pose.position();
+        let since = *self.approach_since.get_or_insert(now);
+        // Standing still near the goal on purpose is progress enough.
+        self.progress_mark = (now, here);
+        let ga = self.params.goal_approach.clone();
+        let timed_out = now - since > ga.max_refine_time;
+        let drive = |status| NavCommand { twist: Twist::default(), status };
+        if refine && timed_out {
+            self.status = NavStatus::Succeeded;
+            return drive(self.status);
+        }
+        let footprint = if self.params.local_costmap.footprint.len() >= 3 { self.params.local_costmap.footprint.clone() } else { round_footprint(self.params.local_costmap.inscribed_radius()) };
+        let Some(layers) = self.layers.as_mut() else { return drive(NavStatus::Idle) };
+        let command = if refine && here.dist(goal) <= ga.refine_distance {
+            None
+        } else {
+            approach_command(layers.local(here), pose, goal, &footprint, ga.approach_speed, self.params.dwa.max_vel_theta, 0.5)
+        };
+        self.status = NavStatus::Controlling;
+        match command {
+            Some(t) if !timed_out => NavCommand { twist: t, status: self.status },
+            _ if refine => NavCommand { twist: Twist { linear: 0.0, angular: 0.5 * self.params.move_base.recovery_rotation_speed }, status: self.status },
+            _ => {
+                self.approach_since = None;
+                self.recover(now, AbortReason::GoalUnreachableForCostmap)
+            }
+        }
+    }
+
+    fn recover(&mut self, now: f64, why: AbortReason) -> NavCommand {
         self.recoveries += 1;
-        tracing::debug!("recovery {} ({why})", self.recoveries);
+        tracing::debug!("recovery {} ({})", self.recoveries, why.as_str());
         let mb = &self.params.move_base;
         if !mb.recovery_behavior_enabled || self.recoveries > mb.max_recoveries {
+            self.abort_reason = Some(why);
             self.status = NavStatus::Aborted;
             return NavCommand { twist: Twist::default(), status: self.status };
         }
@@ -309,8 +397,8 @@ impl Navigator {
         self.plan_fail_since = None;
         self.plan_failures = 0;
         // Clear the costmaps' obstacle marks, as move_base's first recovery.
-        if let Some(ob) = self.obstacles.as_mut() {
-            ob.reset();
+        if let Some(l) = self.layers.as_mut() {
+            l.reset_marks();
         }
         NavCommand { twist: Twist { linear: 0.0, angular: turn }, status: self.status }
     }
@@ -418,7 +506,71 @@ mod tests {
 
     #[test]
     fn aborts_when_the_goal_is_enclosed() {
-        let (s, _) = simulate(&room(false, true), Pose2::new(1.0, 1.0, 0.0), Point2::new(4.0, 3.5), 400.0);
+        let mut nav = Navigator::new(NavParams::default());
+        let (s, _) = simulate_with(&mut nav, &room(false, true), Pose2::new(1.0, 1.0, 0.0), Point2::new(4.0, 3.5), 400.0, 0.0);
         assert_eq!(s, NavStatus::Aborted);
+        assert_eq!(nav.abort_reason(), Some(AbortReason::GoalUnreachableForCostmap));
+    }
+
+    fn simulate_with(nav: &mut Navigator, map: &OccupancyGrid, start: Pose2, goal: Point2, limit_s: f64, spread: f64) -> (NavStatus, Pose2) {
+        nav.set_map(map);
+        nav.set_goal(goal, 0.0);
+        nav.set_localization_spread(spread);
+        let (mut pose, mut vel, dt) = (start, Twist::default(), 0.05);
+        let mut t = 0.0;
+        while t < limit_s {
+            let cmd = nav.tick(t, pose, vel);
+            if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
+                return (cmd.status, pose);
+            }
+            vel = cmd.twist;
+            pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+            t += dt;
+        }
+        (nav.status(), pose)
+    }
+
+    #[test]
+    fn reaches_a_goal_the_inflation_blocks_on_its_footprint() {
+        // A wall 0.4 m thick at x = 2.3 .. 2.7 with a passage four cells (0.2 m) wide: a goal
+        // halfway along it is in the inscribed zone, 0.3 m from the nearest free cell, and a
+        // 0.1 m robot fits.
+        let mut m = room(false, false);
+        for r in 0..100 {
+            for c in 46..54 {
+                if !(40..44).contains(&r) {
+                    m.set(c, r, 100);
+                }
+            }
+        }
+        let goal = Point2::new(2.45, 2.1);
+        let mut nav = Navigator::new(NavParams::default());
+        let (s, p) = simulate_with(&mut nav, &m, Pose2::new(1.0, 2.1, 0.0), goal, 120.0, 0.0);
+        assert_eq!(s, NavStatus::Succeeded, "{p:?} {:?}", nav.abort_reason());
+        assert!(p.position().dist(goal) <= 0.1);
+        assert!(nav.costmap().unwrap().cost_at(goal) >= crate::costmap::INSCRIBED);
+    }
+
+    #[test]
+    fn an_unsure_estimate_refines_before_stopping() {
+        let goal = Point2::new(4.0, 4.0);
+        let mut params = NavParams::default();
+        params.goal_approach.success_radius = 0.2;
+        // Sure enough: stops as soon as within tolerance.
+        let mut nav = Navigator::new(params.clone());
+        let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 60.0, 0.02);
+        assert_eq!(s, NavStatus::Succeeded);
+        let d_sure = p.position().dist(goal);
+        // Less sure (0.06 m spread): drives in until 0.2 - 2 * 0.06 = 0.08 m from the goal.
+        let mut nav = Navigator::new(params.clone());
+        let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 60.0, 0.06);
+        assert_eq!(s, NavStatus::Succeeded);
+        let d = p.position().dist(goal);
+        assert!(d < 0.08 && d < d_sure, "{d} vs {d_sure}");
+        // Unsure (0.09 m spread): drives in to refine_distance, turns, and stops only when out of time.
+        let mut nav = Navigator::new(params.clone());
+        let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 90.0, 0.09);
+        assert_eq!(s, NavStatus::Succeeded);
+        assert!(p.position().dist(goal) <= params.goal_approach.refine_distance + 1e-9, "{p:?}");
     }
 }

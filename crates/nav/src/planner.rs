@@ -55,8 +55,55 @@ pub enum PlanError {
     NoPath,
 }
 
+/// The planner's working memory, kept between plans so that a plan costs what it explores
+/// rather than the size of the map.
+#[derive(Debug, Clone, Default)]
+pub struct PlanScratch {
+    dist: Vec<f64>,
+    prev: Vec<u32>,
+    /// `dist` and `prev` hold for cell i only when `stamp[i] == generation`.
+    stamp: Vec<u32>,
+    generation: u32,
+    heap: BinaryHeap<Reverse<(u64, u32)>>,
+}
+
+impl PlanScratch {
+    /// Starts a search over `n` cells: every distance infinite.
+    fn reset(&mut self, n: usize) {
+        if self.stamp.len() != n || self.generation == u32::MAX {
+            self.dist = vec![f64::INFINITY; n];
+            self.prev = vec![u32::MAX; n];
+            self.stamp = vec![0; n];
+            self.generation = 0;
+        }
+        self.generation += 1;
+        self.heap.clear();
+    }
+
+    #[inline]
+    fn dist(&self, i: usize) -> f64 {
+        if self.stamp[i] == self.generation {
+            self.dist[i]
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    #[inline]
+    fn set(&mut self, i: usize, d: f64, prev: u32) {
+        self.stamp[i] = self.generation;
+        self.dist[i] = d;
+        self.prev[i] = prev;
+    }
+}
+
 /// Plans from `start` to `goal` on `cm`; the path runs from start to goal with headings along it.
 pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Result<Vec<Pose2>, PlanError> {
+    plan_with(&mut PlanScratch::default(), cm, start, goal, p)
+}
+
+/// [`plan`] with working memory kept from earlier plans (the same result).
+pub fn plan_with(scratch: &mut PlanScratch, cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Result<Vec<Pose2>, PlanError> {
     let (w, h) = (cm.width, cm.height);
     let free = |i: usize| cm.cost[i] < INSCRIBED;
     let (sc, sr) = cm.cell(start).ok_or(PlanError::StartOutsideMap)?;
@@ -65,18 +112,17 @@ pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Res
     let g = nearest_free(cm, gr * w + gc, p.default_tolerance).ok_or(PlanError::GoalOccupied)?;
     let gpos = cm.center(g % w, g / w);
     let heur = |i: usize| if p.use_astar { cm.center(i % w, i / w).dist(gpos) / cm.resolution } else { 0.0 };
-    let mut dist = vec![f64::INFINITY; w * h];
-    let mut prev = vec![u32::MAX; w * h];
-    let mut heap = BinaryHeap::new();
-    dist[s] = 0.0;
-    heap.push(Reverse((heur(s).to_bits(), s as u32)));
-    while let Some(Reverse((_, m))) = heap.pop() {
+    scratch.reset(w * h);
+    let sc = scratch;
+    sc.set(s, 0.0, u32::MAX);
+    sc.heap.push(Reverse((heur(s).to_bits(), s as u32)));
+    while let Some(Reverse((_, m))) = sc.heap.pop() {
         let m = m as usize;
         if m == g {
             break;
         }
         let (c, r) = ((m % w) as isize, (m / w) as isize);
-        let dm = dist[m];
+        let dm = sc.dist(m);
         for (dc, dr, len) in [(1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0), (1, 1, std::f64::consts::SQRT_2), (1, -1, std::f64::consts::SQRT_2), (-1, 1, std::f64::consts::SQRT_2), (-1, -1, std::f64::consts::SQRT_2)] {
             let (kc, kr) = (c + dc, r + dr);
             if kc < 0 || kr < 0 || kc >= w as isize || kr >= h as isize {
@@ -90,14 +136,13 @@ pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Res
                 continue;
             }
             let nd = dm + len * (p.neutral_cost + p.cost_factor * cm.cost[k] as f64) / p.neutral_cost;
-            if nd < dist[k] {
-                dist[k] = nd;
-                prev[k] = m as u32;
-                heap.push(Reverse(((nd + heur(k)).to_bits(), k as u32)));
+            if nd < sc.dist(k) {
+                sc.set(k, nd, m as u32);
+                sc.heap.push(Reverse(((nd + heur(k)).to_bits(), k as u32)));
             }
         }
     }
-    if !dist[g].is_finite() {
+    if !sc.dist(g).is_finite() {
         return Err(PlanError::NoPath);
     }
     let mut cells = vec![g];
@@ -105,7 +150,7 @@ pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Res
         if last == s {
             break;
         }
-        cells.push(prev[last] as usize);
+        cells.push(sc.prev[last] as usize);
     }
     cells.reverse();
     let mut pts: Vec<Point2> = cells.iter().map(|&i| cm.center(i % w, i / w)).collect();
@@ -238,6 +283,22 @@ mod tests {
         let exact = 2.0 * 1f64.hypot(2.3);
         assert!(lengths[0] >= 2.0 * 1f64.hypot(2.0) && lengths[0] < exact * 1.03, "{lengths:?} vs {exact}");
         assert!((lengths[0] - lengths[1]).abs() < 0.05 * exact, "{lengths:?}");
+    }
+
+    #[test]
+    fn kept_working_memory_gives_the_same_plans() {
+        let cm = maze();
+        let mut scratch = PlanScratch::default();
+        let queries = [((1.0, 1.0), (3.0, 1.0)), ((3.5, 3.5), (0.5, 0.5)), ((1.0, 1.0), (9.0, 1.0)), ((2.0, 3.3), (3.8, 0.2)), ((1.0, 1.0), (3.0, 1.0))];
+        for ((sx, sy), (gx, gy)) in queries {
+            let (a, b) = (Point2::new(sx, sy), Point2::new(gx, gy));
+            let p = PlannerParams::default();
+            assert_eq!(plan_with(&mut scratch, &cm, a, b, &p), plan(&cm, a, b, &p));
+        }
+        // Another map size resets it.
+        let small = Costmap::from_map(&OccupancyGrid::new(30, 20, 0.05, Pose2::default(), 0), &CostmapParams::default());
+        let (a, b) = (Point2::new(0.2, 0.2), Point2::new(1.3, 0.8));
+        assert_eq!(plan_with(&mut scratch, &small, a, b, &PlannerParams::default()), plan(&small, a, b, &PlannerParams::default()));
     }
 
     #[test]

@@ -226,8 +226,10 @@ impl DiscreteEnv for Env {
 
     /// The metrics so far (final once the episode is done).
     fn metrics(&self) -> EpisodeMetrics {
-        let dtg = self.distance_to_goal();
-        EpisodeMetrics::new(self.config.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions)
+        // Habitat snaps a position off the navmesh to it: the distance from the nearest
+        // navigable point, plus the offset, never undefined.
+        let (dtg, off) = self.field.distance_snapped(&self.grid, self.pose().position());
+        EpisodeMetrics::new(self.config.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions).off_navigable(off)
     }
 
     /// Whether the episode is over.

@@ -23,6 +23,11 @@ pub struct EpisodeMetrics {
     pub start_distance: f64,
     /// Whether the agent called `stop`.
     pub called_stop: bool,
+    /// When the agent ended off its navigable region (where the geodesic is undefined): the
+    /// distance (m) from its position to the nearest navigable point, from which
+    /// `distance_to_goal` is then measured (this offset included). `None` on the region.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub off_navigable_m: Option<f64>,
 }
 
 impl EpisodeMetrics {
@@ -41,7 +46,15 @@ impl EpisodeMetrics {
             path_length,
             start_distance: d0,
             called_stop,
+            off_navigable_m: None,
         }
+    }
+
+    /// The metrics of an episode ending at a point `off` (m) from the navigable region
+    /// (`dtg` measured from its nearest navigable point, the offset included).
+    pub fn off_navigable(mut self, off: Option<f64>) -> Self {
+        self.off_navigable_m = off;
+        self
     }
 }
 

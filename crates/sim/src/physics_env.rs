@@ -210,8 +210,10 @@ impl DiscreteEnv for PhysicsEnv {
     }
 
     fn metrics(&self) -> EpisodeMetrics {
-        let dtg = self.distance_to_goal();
-        EpisodeMetrics::new(self.task.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions)
+        // Habitat snaps a position off the navmesh to it: the distance from the nearest
+        // navigable point, plus the offset, never undefined.
+        let (dtg, off) = self.field.distance_snapped(&self.grid, self.pose().position());
+        EpisodeMetrics::new(self.task.success_distance, self.called_stop, dtg, self.d0, self.path_length, self.steps, self.collisions).off_navigable(off)
     }
 
 }

@@ -105,3 +105,27 @@ fn islands_are_infinitely_far_and_goals_take_the_minimum() {
     assert!((d - 1.0).abs() < 1e-9, "{d}");
 }
 
+
+#[test]
+fn distances_off_the_region_run_from_its_nearest_point() {
+    // A straight corridor 1 m wide: a point inside the wall is off the region, 0.25 m from
+    // the corridor's navigable edge (the agent's radius from the wall face).
+    let mut s = Scene::default();
+    add(&mut s, "floor", -1.0, -1.0, 6.0, 2.0, 0.0);
+    add(&mut s, "wall_bottom", -1.0, -0.6, 6.0, 0.0, 2.5);
+    add(&mut s, "wall_top", -1.0, 1.0, 6.0, 1.6, 2.5);
+    let g = grid(&s);
+    let r = g.params.radius;
+    let goal = p(4.0, 0.5);
+    let f = GeodesicField::new(&g, &[goal]);
+    let on = p(1.0, 0.5);
+    assert_eq!(f.distance_snapped(&g, on), (f.distance(&g, on), None));
+    let off = p(1.0, -0.15);
+    assert!(f.distance(&g, off).is_infinite());
+    let (d, offset) = f.distance_snapped(&g, off);
+    let offset = offset.expect("off the region");
+    // The nearest navigable cell centre is about 0.15 + r away (within a cell).
+    assert!((offset - (0.15 + r)).abs() < g.resolution(), "{offset}");
+    let straight = (goal.x - off.x).hypot(goal.y - off.y);
+    assert!(d.is_finite() && d >= straight - 1e-9 && d < straight + 2.0 * offset, "{d} vs {straight}");
+}

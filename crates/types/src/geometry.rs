@@ -90,7 +90,15 @@ impl Pose2 {
 
 /// Wraps an angle into (-pi, pi] (rad).
 pub fn normalize_angle(a: f64) -> f64 {
-    let mut r = a.rem_euclid(std::f64::consts::TAU);
+    use std::f64::consts::TAU;
+    // Within one turn of zero `rem_euclid` is exact without its division: the same value.
+    let mut r = if a >= 0.0 && a < TAU {
+        a
+    } else if a < 0.0 && a > -TAU {
+        a + TAU
+    } else {
+        a.rem_euclid(TAU)
+    };
     if r > std::f64::consts::PI {
         r -= std::f64::consts::TAU;
     }
@@ -113,6 +121,30 @@ mod tests {
         let a = Pose2::new(1.0, -2.0, 0.7);
         let i = a.compose(a.inverse());
         assert!(i.x.abs() < 1e-12 && i.y.abs() < 1e-12 && i.yaw.abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_fast_wrap_equals_rem_euclid() {
+        let slow = |a: f64| {
+            let mut r = a.rem_euclid(std::f64::consts::TAU);
+            if r > std::f64::consts::PI {
+                r -= std::f64::consts::TAU;
+            }
+            r
+        };
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        for k in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let a = (x >> 11) as f64 / (1u64 << 53) as f64 * 30.0 - 15.0;
+            let a = if k % 7 == 0 { a * 1e-12 } else { a };
+            assert_eq!(normalize_angle(a).to_bits(), slow(a).to_bits(), "{a}");
+        }
+        for a in [0.0, -0.0, std::f64::consts::TAU, -std::f64::consts::TAU, std::f64::consts::PI, -std::f64::consts::PI, 1e300, -1e-320] {
+            assert_eq!(normalize_angle(a).to_bits(), slow(a).to_bits(), "{a}");
+        }
+        assert!(normalize_angle(f64::NAN).is_nan());
     }
 
     #[test]

@@ -656,6 +656,10 @@ pub struct PerfArgs {
     /// Time AMCL updates (5,000 particles, 60 beams).
     #[arg(long)]
     pub amcl: bool,
+    /// Time the native navigation loop (nav agent, physics, lidar, AMCL) on one thread over
+    /// a fixed episode set: `nav_real_time_factor`.
+    #[arg(long)]
+    pub nav: bool,
     #[command(flatten)]
     pub camera: CameraOpts,
     #[command(flatten)]

@@ -48,7 +48,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let (stats_tx, mut stats_rx) = tokio::sync::mpsc::unbounded_channel();
     let agent = match (cfg.agent, &cfg.nav) {
         (AgentKind::Nav, Some(setup)) => {
-            let o = super::nav_node::NavNodeOptions { setup: setup.clone(), lockstep: true, seed: cfg.seed, timeout: opts.timeout };
+            let o = super::nav_node::NavNodeOptions { setup: setup.scored(cfg.task.success_distance), lockstep: true, seed: cfg.seed, timeout: opts.timeout };
             let uri = uri.to_string();
             tokio::spawn(async move { super::nav_node::run(&uri, Names::plain("xhab_nav"), o, None, None, stop_rx, Some(stats_tx)).await })
         }
@@ -249,8 +249,10 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     // The next episode's clock starts a second after this one ended.
     *clock_ns = base_ns + (end_t * 1e9).round() as i64 + 1_000_000_000;
     let (sim_s, stuck) = match &made {
-        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck() || aborted)),
+        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
         MadeEnv::Plain(_) => (None, None),
     };
-    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
+    // The step reply carries no reason: over ROS an abort is `unknown`.
+    let abort_reason = aborted.then(|| "unknown".to_string());
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, abort_reason, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }

@@ -388,6 +388,8 @@ async fn episode(
         trajectory: traj,
         sim_s: Some(env.sim_s()),
         stuck: Some(env.stuck()),
+        abort_reason: None,
+        final_localization: None,
         localization_error: None,
         render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)),
         ros: Some(RosEpisode { ros_status, end: end.to_string(), cmd_vel_missed: missed, stack_wait_s: wait_s, goal_ack_s: ack_at }),

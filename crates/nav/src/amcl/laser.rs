@@ -13,7 +13,7 @@
 //! are skipped by the likelihood-field models and read as `range_max` by the beam model.
 
 use super::AmclParams;
-use crate::costmap::edt;
+use crate::distance_field::{squared_edt, FAR};
 use serde::{Deserialize, Serialize};
 use xhab_types::{LaserScan, OccupancyGrid, Pose2, GRID_FREE, GRID_OCCUPIED};
 
@@ -62,11 +62,26 @@ pub(crate) struct LaserModel {
 impl LaserModel {
     /// Precomputes the likelihood field and the ray-cast mask of `map`.
     pub(crate) fn new(map: &OccupancyGrid, p: &AmclParams) -> Self {
-        let occ: Vec<bool> = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
-        let d = edt(&occ, map.width, map.height);
         let s2 = 2.0 * p.laser_sigma_hit * p.laser_sigma_hit;
         let max = p.laser_likelihood_max_dist;
-        let field = d.iter().map(|&c| (-((c * map.resolution).min(max)).powi(2) / s2).exp() as f32).collect();
+        let value = |c: f64| (-((c * map.resolution).min(max)).powi(2) / s2).exp() as f32;
+        // The field by squared cell distance, worked out once per distance: beyond a cell past
+        // the cap every value is the cap's. (Exact distances, so the same values as per cell.)
+        // (A cap too far for a table, or not a number: every distance exact, one by one.)
+        let reach = max / map.resolution + 1.0;
+        let reach = (reach.is_finite() && reach <= 1024.0).then(|| reach.max(1.0).ceil() as u32);
+        let table: Vec<f32> = reach.map_or(Vec::new(), |r| (0..=r * r).map(|d2| value((d2 as f64).sqrt())).collect());
+        let at_cap = value(f64::INFINITY);
+        let mut d2 = Vec::new();
+        squared_edt(map.width, map.height, |c, r| map.data[r * map.width + c] == GRID_OCCUPIED, reach.map_or(FAR - 1, |r| r * r), &mut d2);
+        let field = d2
+            .iter()
+            .map(|&k| match reach {
+                Some(_) => table.get(k as usize).copied().unwrap_or(at_cap),
+                None if k == FAR => at_cap,
+                None => value((k as f64).sqrt()),
+            })
+            .collect();
         let stops = map.data.iter().map(|&v| v != GRID_FREE).collect();
         LaserModel {
             field,
@@ -273,6 +288,24 @@ mod tests {
             }
         }
         m
+    }
+
+    #[test]
+    fn the_likelihood_field_is_the_formula_at_each_cell() {
+        let mut map = room();
+        for (c, r) in [(20, 30), (21, 30), (50, 60), (40, 10)] {
+            map.set(c, r, GRID_OCCUPIED);
+        }
+        for (sigma, max) in [(0.2, 2.0), (0.05, 0.3), (5.0, 100.0), (0.2, f64::INFINITY)] {
+            let p = AmclParams { laser_sigma_hit: sigma, laser_likelihood_max_dist: max, ..Default::default() };
+            let lm = LaserModel::new(&map, &p);
+            let occ: Vec<bool> = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
+            let d = crate::costmap::edt(&occ, map.width, map.height);
+            let s2 = 2.0 * sigma * sigma;
+            for i in 0..occ.len() {
+                assert_eq!(lm.field[i], (-((d[i] * map.resolution).min(max)).powi(2) / s2).exp() as f32, "cell {i}, sigma {sigma}, max {max}");
+            }
+        }
     }
 
     #[test]

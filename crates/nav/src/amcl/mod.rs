@@ -424,6 +424,13 @@ impl Amcl {
         (0..self.particles.len()).filter(|&i| bins[&key(&self.particles[i].0)].0 == best).collect()
     }
 
+    /// The estimate and the map -> odom correction it gives (as [`Amcl::estimate`] and
+    /// [`Amcl::map_to_odom`], the clusters worked out once).
+    pub fn estimate_and_map_to_odom(&self) -> (PoseEstimate, Pose2) {
+        let e = self.estimate();
+        (e, self.last_odom.map_or(Pose2::default(), |o| e.pose.compose(o.inverse())))
+    }
+
     /// The map -> odom correction: the estimate composed with the inverse of the odometry pose
     /// of the last filter update (identity before the first).
     pub fn map_to_odom(&self) -> Pose2 {

@@ -197,8 +197,11 @@ pub fn print_table(a: &Aggregate, invalid: usize, agent: &str) {
         println!("physics: {sim:.0} s simulated, {rtf:.0}x real time, stuck in {:.1}% of episodes", stuck * 100.0);
     }
     let f = &a.failures;
-    if f.stuck + f.stopped_outside + f.step_limit > 0 {
-        println!("failures: {} stuck, {} stopped outside the goal, {} ran out of steps", f.stuck, f.stopped_outside, f.step_limit);
+    if f.stuck + f.stopped_outside + f.step_limit + f.goal_unreachable_for_costmap + f.aborted > 0 {
+        println!(
+            "failures: {} stuck, {} stopped outside the goal, {} ran out of steps, {} aborted (goal unreachable for the costmap), {} aborted (other)",
+            f.stuck, f.stopped_outside, f.step_limit, f.goal_unreachable_for_costmap, f.aborted
+        );
     }
     if invalid > 0 {
         println!("({invalid} invalid episodes left out)");

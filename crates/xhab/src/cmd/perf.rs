@@ -156,6 +156,12 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
             m.extend(p);
         }
     }
+    if a.nav {
+        let np = xhab_bridge::nav_perf::nav_perf(&world, &a.scene, &a.physics.robot)?;
+        if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), serde_json::to_value(np)?) {
+            m.extend(p);
+        }
+    }
     if a.physics.physics {
         let ph = physics_perf(&world, &grid, &episodes, a)?;
         if let (Some(m), serde_json::Value::Object(p)) = (j.as_object_mut(), ph) {
