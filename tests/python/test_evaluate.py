@@ -130,7 +130,9 @@ def test_reactive_agent_with_and_without_physics(episodes):
                           renderer="raster", max_steps=200)
         agg = r["aggregate"]
         failures = agg["failures"]
-        assert set(failures) == {"stuck", "stopped_outside", "step_limit"}
+        assert set(failures) == {"stuck", "stopped_outside", "step_limit", "aborted", "goal_unreachable_for_costmap"}
+        # A discrete Python agent never aborts (only the navigator does).
+        assert failures["aborted"] == 0 and failures["goal_unreachable_for_costmap"] == 0
         assert sum(failures.values()) == round(agg["episodes"] * (1 - agg["success"]))
         assert ("sim_s" in agg) == physics and ("stuck" in agg) == physics
         out[physics] = agg

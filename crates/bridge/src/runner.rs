@@ -265,29 +265,11 @@ pub type AgentFactory<'a> = dyn Fn(usize) -> Box<dyn DiscreteAgent> + Sync + 'a;
 /// thread count. Setting `cancel` (e.g. from another thread on Ctrl-C) ends the run early
 /// with [`Cancelled`]; episodes not yet started are skipped.
 pub fn run_dataset_with(world: &World, ds: &Dataset, cfg: &RunConfig, agents: &AgentFactory<'_>, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
-    let run = |(i, ep): (usize, &Episode)| {
-        if cancel.load(Ordering::Relaxed) {
-            return None;
-        }
-        let o = run_episode_with(world, ep, i, cfg, agents(i), cancel);
-        progress();
-        o
-    };
-    let outcomes: Vec<Option<Outcome>> = if cfg.threads <= 1 {
-        ds.episodes.iter().enumerate().map(run).collect()
-    } else {
-        for ep in &ds.episodes {
-            let _ = world.grid_at(ep.start_position.z);
-        }
-        match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
-            Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
-            Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
-        }
-    };
+    let outcomes = run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| run_episode_with(world, ep, i, cfg, agents(i), cancel))?;
     if cancel.load(Ordering::Relaxed) {
         return Err(Cancelled);
     }
-    outcomes.into_iter().map(|o| o.ok_or(Cancelled)).collect()
+    Ok(outcomes)
 }
 
 /// Runs every episode of `ds`; results come back in the dataset's order whatever the thread
@@ -300,24 +282,31 @@ pub fn run_dataset(world: &World, ds: &Dataset, cfg: &RunConfig, progress: &(dyn
 /// [`run_dataset`] that ends early with [`Cancelled`] once `cancel` is set (checked before
 /// each episode; episodes not yet started are skipped).
 pub fn run_dataset_until(world: &World, ds: &Dataset, cfg: &RunConfig, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
-    let run = |(i, ep): (usize, &Episode)| {
+    run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| Some(run_episode(world, ep, i, cfg)))
+}
+
+/// Runs `run` on every episode, in order or on `threads` workers, results in the dataset's
+/// order; skips what is left once `cancel` is set, and fails with [`Cancelled`] if any
+/// episode went without an outcome.
+fn run_each(world: &World, ds: &Dataset, threads: usize, cancel: &AtomicBool, progress: &(dyn Fn() + Sync), run: &(dyn Fn(usize, &Episode) -> Option<Outcome> + Sync)) -> Result<Vec<Outcome>, Cancelled> {
+    let one = |(i, ep): (usize, &Episode)| {
         if cancel.load(Ordering::Relaxed) {
             return None;
         }
-        let o = run_episode(world, ep, i, cfg);
+        let o = run(i, ep);
         progress();
-        Some(o)
+        o
     };
-    let outcomes: Vec<Option<Outcome>> = if cfg.threads <= 1 {
-        ds.episodes.iter().enumerate().map(run).collect()
+    let outcomes: Vec<Option<Outcome>> = if threads <= 1 {
+        ds.episodes.iter().enumerate().map(one).collect()
     } else {
         // Grids are built once, before the workers start, so that no worker waits on another.
         for ep in &ds.episodes {
             let _ = world.grid_at(ep.start_position.z);
         }
-        match rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build() {
-            Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(run).collect()),
-            Err(_) => ds.episodes.iter().enumerate().map(run).collect(),
+        match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
+            Ok(pool) => pool.install(|| ds.episodes.par_iter().enumerate().map(one).collect()),
+            Err(_) => ds.episodes.iter().enumerate().map(one).collect(),
         }
     };
     outcomes.into_iter().map(|o| o.ok_or(Cancelled)).collect()

@@ -174,42 +174,11 @@ impl GeodesicField {
     /// distance. Infinite only when no cell reaches a goal.
     pub fn distance_snapped(&self, grid: &NavGrid, p: Point2) -> (f64, Option<f64>) {
         let d = self.distance(grid, p);
-        if d.is_finite() || !(p.x.is_finite() && p.y.is_finite()) {
+        if d.is_finite() {
             return (d, None);
         }
-        let (w, h) = grid.size();
-        let res = grid.resolution();
-        let o = grid.origin();
-        let clamp = |v: f64, n: usize| (((v / res).floor()).max(0.0) as usize).min(n - 1) as isize;
-        let (pc, pr) = (clamp(p.x - o.x, w), clamp(p.y - o.y, h));
-        let mut best: Option<(f64, usize)> = None;
-        for ring in 0..w.max(h) as isize {
-            if best.is_some_and(|b| (ring as f64 - 1.0) * res > b.0) {
-                break;
-            }
-            for dr in -ring..=ring {
-                for dc in -ring..=ring {
-                    if dr.abs() != ring && dc.abs() != ring {
-                        continue;
-                    }
-                    let (c, r) = (pc + dc, pr + dr);
-                    if c < 0 || r < 0 || c >= w as isize || r >= h as isize {
-                        continue;
-                    }
-                    let j = r as usize * w + c as usize;
-                    if self.parent[j] == NONE {
-                        continue;
-                    }
-                    let q = grid.center(j);
-                    let off = dist2(q, [p.x, p.y]);
-                    if best.is_none_or(|b| off < b.0) {
-                        best = Some((off, j));
-                    }
-                }
-            }
-        }
-        match best {
-            Some((off, j)) => {
+        match grid.nearest_cell_where(p, |j| self.parent[j] != NONE) {
+            Some((j, off)) => {
                 let q = grid.center(j);
                 (self.distance(grid, Point2::new(q[0], q[1])) + off, Some(off))
             }

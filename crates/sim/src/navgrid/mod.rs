@@ -301,6 +301,48 @@ impl NavGrid {
         self.nearest_nav_cell(p, 1).map(|j| self.island_of[j])
     }
 
+    /// The cell nearest to `p` (by its centre, searched ring by ring outwards over the whole
+    /// grid) among those `wanted` accepts, and its centre's distance from `p` (m); the first
+    /// found wins a tie. `None` when no cell is accepted.
+    pub fn nearest_cell_where(&self, p: Point2, wanted: impl Fn(usize) -> bool) -> Option<(usize, f64)> {
+        let (w, h) = (self.spec.w, self.spec.h);
+        if w == 0 || h == 0 || !(p.x.is_finite() && p.y.is_finite()) {
+            return None;
+        }
+        let res = self.resolution();
+        let o = self.origin();
+        let clamp = |v: f64, n: usize| (((v / res).floor()).max(0.0) as usize).min(n - 1) as isize;
+        let (pc, pr) = (clamp(p.x - o.x, w), clamp(p.y - o.y, h));
+        let mut best: Option<(usize, f64)> = None;
+        for ring in 0..w.max(h) as isize {
+            // Every cell of this ring lies at least (ring - 1) cells from p.
+            if best.is_some_and(|b| (ring as f64 - 1.0) * res > b.1) {
+                break;
+            }
+            for dr in -ring..=ring {
+                for dc in -ring..=ring {
+                    if dr.abs() != ring && dc.abs() != ring {
+                        continue;
+                    }
+                    let (c, r) = (pc + dc, pr + dr);
+                    if c < 0 || r < 0 || c >= w as isize || r >= h as isize {
+                        continue;
+                    }
+                    let j = r as usize * w + c as usize;
+                    if !wanted(j) {
+                        continue;
+                    }
+                    let q = self.center(j);
+                    let off = (q[0] - p.x).hypot(q[1] - p.y);
+                    if best.is_none_or(|b| off < b.1) {
+                        best = Some((j, off));
+                    }
+                }
+            }
+        }
+        best
+    }
+
     /// The navigable cell nearest to `p` within `reach` cells, if any.
     pub(crate) fn nearest_nav_cell(&self, p: Point2, reach: isize) -> Option<usize> {
         let i = self.cell_of(p)?;
