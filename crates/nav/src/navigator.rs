@@ -409,21 +409,7 @@ mod tests {
     use super::*;
 
     fn simulate(map: &OccupancyGrid, start: Pose2, goal: Point2, limit_s: f64) -> (NavStatus, Pose2) {
-        let mut nav = Navigator::new(NavParams::default());
-        nav.set_map(map);
-        nav.set_goal(goal, 0.0);
-        let (mut pose, mut vel, dt) = (start, Twist::default(), 0.05);
-        let mut t = 0.0;
-        while t < limit_s {
-            let cmd = nav.tick(t, pose, vel);
-            if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
-                return (cmd.status, pose);
-            }
-            vel = cmd.twist;
-            pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
-            t += dt;
-        }
-        (nav.status(), pose)
+        simulate_with(&mut Navigator::new(NavParams::default()), map, start, goal, limit_s, 0.0)
     }
 
     fn room(wall: bool, enclose_goal: bool) -> OccupancyGrid {
