@@ -15,7 +15,7 @@ use crate::runner::{run_dataset_until, Outcome, RunConfig};
 use crate::scan_source::ScanSource;
 use crate::setup::{self, EnvOptions, EnvSetup, PhysicsOptions, SetupError};
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_nav::depth_to_scan::DepthToScanParams;
@@ -221,15 +221,19 @@ pub fn nav_params(files: &[ParamFile], robot: Option<&RobotProfile>) -> Result<(
     Ok((loaded.params, loaded.warnings))
 }
 
-/// Runs the benchmark `o` describes; `progress` is called once per finished episode (per
-/// run with `CompareRos`). Invalid episodes are reported, not errors.
-pub fn run_bench(o: &BenchOptions, progress: &(dyn Fn() + Sync)) -> Result<BenchRun, BenchError> {
+/// Progress of a benchmark: `(episodes finished, episodes in all)`; with `CompareRos` every
+/// episode runs twice and counts twice.
+pub type BenchProgress<'a> = dyn Fn(usize, usize) + Sync + 'a;
+
+/// Runs the benchmark `o` describes; `progress` is called once per finished episode.
+/// Invalid episodes are reported, not errors.
+pub fn run_bench(o: &BenchOptions, progress: &BenchProgress<'_>) -> Result<BenchRun, BenchError> {
     run_bench_until(o, &AtomicBool::new(false), progress)
 }
 
 /// [`run_bench`] that ends with [`BenchError::Cancelled`] once `cancel` is set (e.g. on
 /// Ctrl-C from another thread); in-process runs check it before each episode.
-pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<BenchRun, BenchError> {
+pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchProgress<'_>) -> Result<BenchRun, BenchError> {
     let mut env = o.env.clone();
     if matches!(o.agent, AgentKind::Nav | AgentKind::Ros) && env.physics.is_none() {
         env.physics = Some(PhysicsOptions::default());
@@ -239,6 +243,10 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &(dyn Fn
     }
     let setup = EnvSetup::build(&env)?;
     let dataset = setup::read_episodes(&o.episodes)?;
+    let total = dataset.episodes.len() * if matches!(o.transport, Transport::CompareRos) { 2 } else { 1 };
+    let finished = AtomicUsize::new(0);
+    let tick = || progress(finished.fetch_add(1, Ordering::Relaxed) + 1, total);
+    let progress: &(dyn Fn() + Sync) = &tick;
     let mut warnings = Vec::new();
     let robot = setup.physics.as_ref().map(|p| &p.profile);
     let needs_scans = matches!(o.agent, AgentKind::Nav | AgentKind::Ros);
@@ -409,7 +417,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let eps = procedural_episodes(&dir);
         let mut o = BenchOptions::new("procedural:3", &eps);
-        let oracle = run_bench(&o, &|| {}).unwrap();
+        let oracle = run_bench(&o, &|_, _| {}).unwrap();
         assert_eq!(oracle.report.agent, "oracle");
         assert_eq!(oracle.report.aggregate.episodes, 4);
         assert!(oracle.report.aggregate.success > 0.99, "{:?}", oracle.report.aggregate);
@@ -417,7 +425,7 @@ mod tests {
         // The nav agent runs under physics even when none was asked for.
         o.agent = AgentKind::Nav;
         o.threads = 2;
-        let nav = run_bench(&o, &|| {}).unwrap();
+        let nav = run_bench(&o, &|_, _| {}).unwrap();
         assert!(nav.report.physics.is_some() && nav.report.nav.is_some());
         assert_eq!(nav.report.aggregate.episodes, 4);
         std::fs::remove_dir_all(&dir).ok();
@@ -426,16 +434,16 @@ mod tests {
     #[test]
     fn bad_options_are_errors_naming_the_flag() {
         let mut o = BenchOptions::new("procedural:3", "/nonexistent/eps.json.gz");
-        let e = run_bench(&o, &|| {}).unwrap_err().to_string();
+        let e = run_bench(&o, &|_, _| {}).unwrap_err().to_string();
         assert!(e.contains("/nonexistent/eps.json.gz"), "{e}");
         o.agent = AgentKind::Ros;
         o.transport = Transport::Ros;
-        assert!(run_bench(&o, &|| {}).unwrap_err().to_string().contains("drop --ros"));
+        assert!(run_bench(&o, &|_, _| {}).unwrap_err().to_string().contains("drop --ros"));
         o.transport = Transport::InProcess;
         o.agent = AgentKind::Nav;
         o.nav.scans = None;
         o.nav.localization = Localization::Amcl;
         o.episodes = procedural_episodes(&std::env::temp_dir().join(format!("xhab-benchmark-bad-{}", std::process::id())));
-        assert!(run_bench(&o, &|| {}).unwrap_err().to_string().contains("needs laser scans"));
+        assert!(run_bench(&o, &|_, _| {}).unwrap_err().to_string().contains("needs laser scans"));
     }
 }

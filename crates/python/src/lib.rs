@@ -759,7 +759,7 @@ fn bench_builtin(py: Python<'_>, scene: &str, episodes: PathBuf, agent: &str, th
     o.seed = seed;
     bench_extras(&mut o, extras)?;
     let cancel = AtomicBool::new(false);
-    let run = interruptible(py, &cancel, || run_bench_until(&o, &cancel, &|| {}))?.map_err(|e| py_err(&e))?;
+    let run = interruptible(py, &cancel, || run_bench_until(&o, &cancel, &|_, _| {}))?.map_err(|e| py_err(&e))?;
     for w in &run.warnings {
         let msg = std::ffi::CString::new(w.replace('\0', " ")).unwrap_or_default();
         PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &msg, 1)?;

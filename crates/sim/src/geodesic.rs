@@ -32,17 +32,10 @@ impl GeodesicField {
     /// Computes the field towards `goals` (m, planar) on `grid`. Goals off the region are
     /// attached to the nearest navigable cell within two cells; farther ones are ignored.
     pub fn new(grid: &NavGrid, goals: &[Point2]) -> GeodesicField {
-        Self::build(grid, goals, None)
+        Self::build(grid, goals)
     }
 
-    /// Like [`GeodesicField::new`], but a goal-directed search (A*-ordered, euclidean heuristic)
-    /// that stops once the cell of `from` is settled: only that part of the field is filled.
-    /// For one-off point-to-point distances.
-    pub fn towards(grid: &NavGrid, goals: &[Point2], from: Point2) -> GeodesicField {
-        Self::build(grid, goals, Some(from))
-    }
-
-    fn build(grid: &NavGrid, goals: &[Point2], target: Option<Point2>) -> GeodesicField {
+    fn build(grid: &NavGrid, goals: &[Point2]) -> GeodesicField {
         let (w, h) = grid.size();
         let n = w * h;
         let mut f = GeodesicField {
@@ -66,13 +59,6 @@ impl GeodesicField {
                 heap.push(Reverse((d.to_bits(), i as u32)));
             }
         }
-        let target_cell = target.and_then(|p| grid.cell_of(p).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(p, 2)));
-        // Heuristic: straight-line distance to the target's cell centre (consistent).
-        let tc = target_cell.map(|i| grid.center(i));
-        let heur = |c: [f64; 2]| tc.map_or(0.0, |t| dist2(c, t));
-        if tc.is_some() {
-            heap = heap.into_iter().map(|Reverse((_, i))| Reverse(((f.dist[i as usize] + heur(grid.center(i as usize))).to_bits(), i))).collect();
-        }
         let mut done = vec![false; n];
         while let Some(Reverse((_, m))) = heap.pop() {
             let m = m as usize;
@@ -80,9 +66,6 @@ impl GeodesicField {
                 continue;
             }
             done[m] = true;
-            if Some(m) == target_cell {
-                break;
-            }
             let q = f.parent[m];
             // The distance at m's own anchor point, for paths that bend at m.
             f.anchor_dist[m] = if grid.corner[m] {
@@ -122,7 +105,7 @@ impl GeodesicField {
                 if cand < f.dist[k] {
                     f.dist[k] = cand;
                     f.parent[k] = par;
-                    heap.push(Reverse(((cand + heur(ck)).to_bits(), k as u32)));
+                    heap.push(Reverse((cand.to_bits(), k as u32)));
                 }
             }
         }
@@ -164,25 +147,6 @@ impl GeodesicField {
                 d + dist2(a, [p.x, p.y])
             }
             None => f64::INFINITY,
-        }
-    }
-
-    /// Geodesic distance from `p` (m, planar) to the nearest goal, defined off the region
-    /// too: where `p` has no distance of its own (off the agent's navigable region, or on an
-    /// island without a goal), the distance from the nearest cell centre that has one plus the
-    /// straight offset to it, and that offset (m); `None` as the offset when `p` has its own
-    /// distance. Infinite only when no cell reaches a goal.
-    pub fn distance_snapped(&self, grid: &NavGrid, p: Point2) -> (f64, Option<f64>) {
-        let d = self.distance(grid, p);
-        if d.is_finite() {
-            return (d, None);
-        }
-        match grid.nearest_cell_where(p, |j| self.parent[j] != NONE) {
-            Some((j, off)) => {
-                let q = grid.center(j);
-                (self.distance(grid, Point2::new(q[0], q[1])) + off, Some(off))
-            }
-            None => (f64::INFINITY, None),
         }
     }
 

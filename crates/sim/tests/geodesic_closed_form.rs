@@ -117,7 +117,7 @@ fn distances_off_the_region_run_from_its_nearest_point() {
     let g = grid(&s);
     let r = g.params.radius;
     let goal = p(4.0, 0.5);
-    let f = GeodesicField::new(&g, &[goal]);
+    let f = g.field(&[goal]);
     let on = p(1.0, 0.5);
     assert_eq!(f.distance_snapped(&g, on), (f.distance(&g, on), None));
     let off = p(1.0, -0.15);

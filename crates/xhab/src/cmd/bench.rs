@@ -27,10 +27,11 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     if !matches!(o.transport, BenchTransport::InProcess) && o.threads > 1 {
         eprintln!("xhab: note: over ROS episodes run one at a time (lock-step); --threads applies to the in-process run only");
     }
-    let n = xhab_bridge::setup::read_episodes(&a.episodes).map(|d| d.episodes.len()).unwrap_or(0);
-    let runs = if a.compare_ros { 2 } else { 1 };
-    let pb = super::progress(n * runs, quiet, o.agent.name());
-    let run = run_bench(&o, &|| pb.inc(1))?;
+    let pb = super::progress(0, quiet, o.agent.name());
+    let run = run_bench(&o, &|done, total| {
+        pb.set_length(total as u64);
+        pb.set_position(done as u64);
+    })?;
     pb.finish_and_clear();
     if let Some(note) = &run.renderer_note {
         eprintln!("xhab: renderer {note}");
@@ -218,8 +219,8 @@ pub fn draw_trajectories(world: &World, ds: &Dataset, outcomes: &[Outcome], dir:
         let map = grid.occupancy_grid();
         let mut pic = MapPicture::new(&map);
         let goals: Vec<Point2> = ep.goals.iter().map(|g| g.position.xy()).collect();
-        let field = xhab_sim::geodesic::GeodesicField::new(&grid, &goals);
-        pic.polyline(&field.path(&grid, ep.start_position.xy()), [60, 160, 255]);
+        // The shortest path as the metrics measure it (the episode's goal field, cached).
+        pic.polyline(&grid.field(&goals).path(&grid, ep.start_position.xy()), [60, 160, 255]);
         let pts: Vec<Point2> = traj.iter().map(|p| p.position()).collect();
         pic.polyline(&pts, [230, 120, 0]);
         pic.dot(ep.start_position.xy(), 4, [0, 170, 0]);

@@ -1,9 +1,11 @@
 //! `xhab perf`: speed figures of one scene, as JSON.
 //!
-//! Each figure times only the operation it names: map build (floor detection and the
-//! navigation grid), geodesic queries against a precomputed goal field (the per-step
-//! `distance_to_goal` of an episode), the field build itself (a cold point-to-point query),
-//! and discrete steps (motion with sliding plus the step's metric update) without rendering.
+//! Each figure times only the operation it names: map build (floor detection, the
+//! navigation grid and its corner graph, as habitat's navmesh build includes its path
+//! finder), geodesic queries against an episode's goal field (the per-step
+//! `distance_to_goal`), the goal field's build (an episode's setup), cold point-to-point
+//! queries, and discrete steps (motion with sliding plus the step's metric update) without
+//! rendering.
 
 use crate::cli::PerfArgs;
 use crate::scene_arg::{agent_params, load_scene};
@@ -15,7 +17,7 @@ use std::time::Instant;
 use xhab_sim::action::Action;
 use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
-use xhab_sim::geodesic::GeodesicField;
+use xhab_sim::goal_field::GoalField;
 use xhab_sim::oracle::ShortestPathFollower;
 use xhab_sim::world::World;
 
@@ -30,7 +32,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         let t = Instant::now();
         let w = World::new(scene.clone(), params.clone());
         let f = w.default_floor().context("no walkable floor")?;
-        w.grid(f)?;
+        w.grid(f)?.corner_graph();
         build_s = build_s.min(t.elapsed().as_secs_f64());
         world = Some(w);
     }
@@ -48,7 +50,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
     let mut fields = Vec::new();
     for g in &goals {
         let t = Instant::now();
-        fields.push(GeodesicField::new(&grid, &[g.xy()]));
+        fields.push(GoalField::new(&grid, &[g.xy()]));
         field_s += t.elapsed().as_secs_f64();
     }
     let field_s = field_s / goals.len() as f64;
