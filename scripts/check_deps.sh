@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Dependency direction (DESIGN.md section 2): xhab -> bridge -> {sim, nav} -> types;
+# Dependency direction (DESIGN.md section 2): xhab -> experiment -> bridge -> {sim, nav} -> types;
 # sim and nav never depend on each other; only bridge may know ROS; only the Python package
 # (crates/python -> bridge) knows Python.
 set -euo pipefail
@@ -20,7 +20,8 @@ check() { # crate forbidden...
 check xhab-types xhab-sim xhab-nav xhab-bridge roslibrust pyo3
 check xhab-sim xhab-nav xhab-bridge roslibrust pyo3
 check xhab-nav xhab-sim xhab-bridge roslibrust pyo3
-check xhab-bridge xhab-python pyo3
+check xhab-bridge xhab-experiment xhab-python pyo3
+check xhab-experiment xhab xhab-python pyo3
 check xhab xhab-python pyo3
 if [ $fail = 0 ]; then echo "dependency direction: ok"; fi
 exit $fail

@@ -114,6 +114,9 @@ pub struct BenchOptions {
     pub env: EnvOptions,
     /// The episodes file (Habitat PointNav `.json.gz` or `.json`).
     pub episodes: PathBuf,
+    /// Run only these episodes of the file (0-based, ascending), each with the seeds it has
+    /// in the whole file's run; `None`: every episode.
+    pub episode_indices: Option<Vec<usize>>,
     /// The agent.
     pub agent: AgentKind,
     /// Worker threads for in-process runs (results do not depend on it).
@@ -140,6 +143,7 @@ impl BenchOptions {
         Self {
             env: EnvOptions::new(scene),
             episodes: episodes.into(),
+            episode_indices: None,
             agent: AgentKind::Oracle,
             threads: 1,
             seed: 0,
@@ -242,7 +246,8 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
         return Err(BenchError::Options("--agent ros already runs over ROS: drop --ros/--compare-ros".into()));
     }
     let setup = EnvSetup::build(&env)?;
-    let dataset = setup::read_episodes(&o.episodes)?;
+    let mut dataset = setup::read_episodes(&o.episodes)?;
+    let selection = select_episodes(&mut dataset, o.episode_indices.as_deref(), &o.episodes)?;
     let total = dataset.episodes.len() * if matches!(o.transport, Transport::CompareRos) { 2 } else { 1 };
     let finished = AtomicUsize::new(0);
     let tick = || progress(finished.fetch_add(1, Ordering::Relaxed) + 1, total);
@@ -266,6 +271,7 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
     let mut cfg = setup.run_config(o.agent, o.threads, o.seed);
     cfg.record_trajectories = o.record_trajectories;
     cfg.nav = nav;
+    cfg.episode_indices = selection;
     let scene = setup.scene.clone();
     let file = o.episodes.display().to_string();
     let world = setup.world.clone();
@@ -282,6 +288,23 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
         warnings.push(format!("episode {} is invalid and left out: {}", i.episode_id, i.reason));
     }
     Ok(BenchRun { report, outcomes, world, dataset, renderer_note: setup.renderer_note.clone(), warnings })
+}
+
+/// Keeps the episodes at `indices` (ascending, in range) in `ds`; their indices in the file,
+/// for the runner's seeds, or `None` when every episode stays.
+fn select_episodes(ds: &mut Dataset, indices: Option<&[usize]>, file: &std::path::Path) -> Result<Option<Arc<[usize]>>, BenchError> {
+    let Some(indices) = indices else { return Ok(None) };
+    let n = ds.episodes.len();
+    if let Some(&bad) = indices.iter().find(|&&i| i >= n) {
+        return Err(BenchError::Options(format!("episode index {bad} is out of range: {} has {n} episodes", file.display())));
+    }
+    if indices.windows(2).any(|w| w[0] >= w[1]) {
+        return Err(BenchError::Options("episode indices must be strictly ascending".into()));
+    }
+    let all = std::mem::take(&mut ds.episodes);
+    let mut keep = indices.iter().peekable();
+    ds.episodes = all.into_iter().enumerate().filter(|(i, _)| keep.next_if_eq(&i).is_some()).map(|(_, e)| e).collect();
+    Ok(Some(indices.into()))
 }
 
 /// Runs xhab's own agent in-process, over ROS, or both (and compares them).

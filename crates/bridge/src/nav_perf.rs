@@ -4,7 +4,7 @@
 
 use crate::agents::AgentKind;
 use crate::nav_agent::{Localization, NavSetup};
-use crate::runner::{aggregate, run_dataset, EpisodeRun, Outcome, RunConfig};
+use crate::runner::{run_dataset, EpisodeRun, Outcome, RunConfig};
 use crate::scan_source::ScanSource;
 use crate::setup::{generate, physics_setup, PhysicsOptions, SetupError};
 use serde::Serialize;
@@ -62,12 +62,13 @@ pub fn nav_perf(world: &World, scene_id: &str, robot: &str) -> Result<NavPerf, N
     let rays = RayScene::new(&world.scene).ok_or(NavPerfError::NoTriangles)?;
     let scan = ScanSource::lidar(Arc::new(rays), physics.profile.laser.lidar());
     let nav = NavSetup { params: loaded.params, map: None, localization: Localization::Amcl, scan: Some(scan), scan_period: 0.1 };
-    let cfg = RunConfig { agent: AgentKind::Nav, task: TaskConfig::default(), threads: 1, record_trajectories: false, physics: Some(physics), seed: 0, nav: Some(nav), sensors: None };
+    let cfg = RunConfig { agent: AgentKind::Nav, task: TaskConfig::default(), threads: 1, record_trajectories: false, physics: Some(physics), seed: 0, nav: Some(nav), sensors: None, episode_indices: None };
     let t = Instant::now();
     let outcomes = run_dataset(world, &ds, &cfg, &|| {});
     let wall_s = t.elapsed().as_secs_f64();
     let runs: Vec<&EpisodeRun> = outcomes.iter().filter_map(|o| if let Outcome::Ran(r) = o { Some(r) } else { None }).collect();
-    let agg = aggregate(&runs, wall_s);
+    let eps: Vec<crate::report::EpisodeReport> = runs.iter().map(|r| crate::report::EpisodeReport::from(*r)).collect();
+    let agg = crate::report::aggregate(&eps, wall_s);
     let sim_s = agg.sim_s.unwrap_or(0.0);
     Ok(NavPerf { nav_real_time_factor: if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }, nav_sim_s: sim_s, nav_wall_s: wall_s, nav_episodes: runs.len(), nav_success: agg.success, nav_spl: agg.spl })
 }

@@ -2,15 +2,15 @@
 //! Field names are a contract: add fields, never rename.
 
 use crate::nav_agent::Localization;
-use crate::runner::{aggregate, Aggregate, EpisodeRun, InvalidRun, Outcome, RunConfig};
-use serde::Serialize;
+use crate::runner::{Aggregate, EpisodeRun, Failures, InvalidRun, Outcome, RunConfig};
+use serde::{Deserialize, Serialize};
 use xhab_sim::env::TaskConfig;
 
 /// Version of the bench JSON layout.
 pub const SCHEMA_VERSION: u32 = 1;
 
 /// `xhab bench --out` document.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BenchReport {
     /// Layout version.
     pub schema_version: u32,
@@ -62,6 +62,7 @@ impl BenchReport {
                 Outcome::Invalid(i) => invalid.push(i.clone()),
             }
         }
+        let episodes: Vec<EpisodeReport> = runs.iter().map(|r| EpisodeReport::from(*r)).collect();
         BenchReport {
             schema_version: SCHEMA_VERSION,
             scene: scene.to_string(),
@@ -88,9 +89,9 @@ impl BenchReport {
                 }
                 v
             }),
-            aggregate: aggregate(&runs, wall_s),
-            invalid: InvalidReport { count: invalid.len(), episode_ids: invalid.iter().map(|i| i.episode_id.clone()).collect(), reasons: invalid },
-            episodes: runs.iter().map(|r| EpisodeReport::from(*r)).collect(),
+            invalid: InvalidReport::new(invalid),
+            aggregate: aggregate(&episodes, wall_s),
+            episodes,
             ros,
             ros_check: None,
         }
@@ -103,7 +104,7 @@ impl BenchReport {
 }
 
 /// Agreement of a run over ROS with the same run in-process.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RosCheck {
     /// Same episodes, same steps, collisions and stop calls, metrics within 1e-9.
     pub identical: bool,
@@ -114,7 +115,7 @@ pub struct RosCheck {
 }
 
 /// Invalid episodes.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct InvalidReport {
     /// How many.
     pub count: usize,
@@ -124,8 +125,15 @@ pub struct InvalidReport {
     pub reasons: Vec<InvalidRun>,
 }
 
+impl InvalidReport {
+    /// The report of these invalid episodes, in the order given.
+    pub fn new(reasons: Vec<InvalidRun>) -> Self {
+        InvalidReport { count: reasons.len(), episode_ids: reasons.iter().map(|i| i.episode_id.clone()).collect(), reasons }
+    }
+}
+
 /// Metrics of one episode.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct EpisodeReport {
     /// The episode's id.
     pub episode_id: String,
@@ -247,6 +255,55 @@ impl From<&EpisodeRun> for EpisodeReport {
             stack_wait_s: r.ros.as_ref().map(|x| x.stack_wait_s),
             goal_ack_s: r.ros.as_ref().and_then(|x| x.goal_ack_s),
         }
+    }
+}
+
+/// Means and totals over a run's episodes (in the report's order; `wall_s` the run's elapsed
+/// time, s). Everything but the timing figures depends on the episodes alone, so a run split
+/// into parts and merged aggregates to the same numbers.
+pub fn aggregate(eps: &[EpisodeReport], wall_s: f64) -> Aggregate {
+    let n = eps.len().max(1) as f64;
+    // Folded from +0.0 (`sum` starts at -0.0, which an empty run would print as "-0.000").
+    let mean = |f: &dyn Fn(&EpisodeReport) -> f64| eps.iter().fold(0.0, |a, e| a + f(e)) / n;
+    let total_steps: f64 = eps.iter().map(|e| e.steps as f64).sum();
+    let physics = eps.iter().any(|e| e.sim_s.is_some());
+    let sim_s: f64 = eps.iter().filter_map(|e| e.sim_s).sum();
+    let mut failures = Failures::default();
+    for e in eps {
+        match e.failure.as_deref() {
+            Some("stuck") => failures.stuck += 1,
+            Some("goal_unreachable_for_costmap") => failures.goal_unreachable_for_costmap += 1,
+            Some("aborted") => failures.aborted += 1,
+            Some("stopped_outside") => failures.stopped_outside += 1,
+            Some(_) => failures.step_limit += 1,
+            None => {}
+        }
+    }
+    let loc: Vec<[f64; 2]> = eps.iter().filter_map(|e| Some([e.localization_error_m?, e.localization_error_deg?])).collect();
+    let render: Vec<(u64, f64)> = eps.iter().filter_map(|e| Some((e.frames?, e.render_s?))).collect();
+    let (frames, render_s) = render.iter().fold((0u64, 0.0), |a, r| (a.0 + r.0, a.1 + r.1));
+    let rendered = !render.is_empty();
+    let loc_mean = |k: usize| (!loc.is_empty()).then(|| loc.iter().map(|e| e[k]).sum::<f64>() / loc.len() as f64);
+    Aggregate {
+        localization_error_m: loc_mean(0),
+        localization_error_deg: loc_mean(1),
+        ros_overhead: None,
+        frames: rendered.then_some(frames),
+        render_s: rendered.then_some(render_s),
+        render_frames_per_s: rendered.then(|| if render_s > 0.0 { frames as f64 / render_s } else { 0.0 }),
+        sim_s: physics.then_some(sim_s),
+        real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
+        stuck: physics.then(|| eps.iter().filter(|e| e.stuck == Some(true)).count() as f64 / n),
+        failures,
+        episodes: eps.len(),
+        success: mean(&|e| e.success),
+        spl: mean(&|e| e.spl),
+        soft_spl: mean(&|e| e.soft_spl),
+        distance_to_goal: mean(&|e| e.distance_to_goal),
+        steps: mean(&|e| e.steps as f64),
+        collisions: mean(&|e| e.collisions as f64),
+        wall_s,
+        steps_per_s: if wall_s > 0.0 { total_steps / wall_s } else { 0.0 },
     }
 }
 

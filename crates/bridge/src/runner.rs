@@ -36,6 +36,17 @@ pub struct RunConfig {
     pub nav: Option<crate::nav_agent::NavSetup>,
     /// The camera whose frames every observation carries (`--sensors`), if any.
     pub sensors: Option<Arc<CameraRig>>,
+    /// Each episode's index in its file when the dataset is a selection of the file (seeds
+    /// derive from the index, so a slice reproduces those episodes of the whole run);
+    /// `None`: the dataset is the whole file.
+    pub episode_indices: Option<Arc<[usize]>>,
+}
+
+impl RunConfig {
+    /// The index in its file of the dataset's `i`-th episode (its seeds derive from it).
+    pub fn episode_index(&self, i: usize) -> usize {
+        self.episode_indices.as_ref().and_then(|v| v.get(i).copied()).unwrap_or(i)
+    }
 }
 
 /// Frames rendered in an episode and the wall time spent on them.
@@ -265,7 +276,7 @@ pub type AgentFactory<'a> = dyn Fn(usize) -> Box<dyn DiscreteAgent> + Sync + 'a;
 /// thread count. Setting `cancel` (e.g. from another thread on Ctrl-C) ends the run early
 /// with [`Cancelled`]; episodes not yet started are skipped.
 pub fn run_dataset_with(world: &World, ds: &Dataset, cfg: &RunConfig, agents: &AgentFactory<'_>, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
-    let outcomes = run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| run_episode_with(world, ep, i, cfg, agents(i), cancel))?;
+    let outcomes = run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| run_episode_with(world, ep, cfg.episode_index(i), cfg, agents(cfg.episode_index(i)), cancel))?;
     if cancel.load(Ordering::Relaxed) {
         return Err(Cancelled);
     }
@@ -282,7 +293,7 @@ pub fn run_dataset(world: &World, ds: &Dataset, cfg: &RunConfig, progress: &(dyn
 /// [`run_dataset`] that ends early with [`Cancelled`] once `cancel` is set (checked before
 /// each episode; episodes not yet started are skipped).
 pub fn run_dataset_until(world: &World, ds: &Dataset, cfg: &RunConfig, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, Cancelled> {
-    run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| Some(run_episode(world, ep, i, cfg)))
+    run_each(world, ds, cfg.threads, cancel, progress, &|i, ep| Some(run_episode(world, ep, cfg.episode_index(i), cfg)))
 }
 
 /// Runs `run` on every episode, in order or on `threads` workers, results in the dataset's
@@ -401,49 +412,3 @@ pub fn failure_cause(r: &EpisodeRun) -> Option<&'static str> {
     })
 }
 
-/// Aggregates episode runs; `wall_s` is the run's elapsed time (s).
-pub fn aggregate(runs: &[&EpisodeRun], wall_s: f64) -> Aggregate {
-    let n = runs.len().max(1) as f64;
-    // Folded from +0.0 (`sum` starts at -0.0, which an empty run would print as "-0.000").
-    let mean = |f: &dyn Fn(&EpisodeMetrics) -> f64| runs.iter().fold(0.0, |a, r| a + f(&r.metrics)) / n;
-    let total_steps: f64 = runs.iter().map(|r| r.metrics.steps as f64).sum();
-    let physics = runs.iter().any(|r| r.sim_s.is_some());
-    let sim_s: f64 = runs.iter().filter_map(|r| r.sim_s).sum();
-    let mut failures = Failures::default();
-    for r in runs {
-        match failure_cause(r) {
-            Some("stuck") => failures.stuck += 1,
-            Some("goal_unreachable_for_costmap") => failures.goal_unreachable_for_costmap += 1,
-            Some("aborted") => failures.aborted += 1,
-            Some("stopped_outside") => failures.stopped_outside += 1,
-            Some(_) => failures.step_limit += 1,
-            None => {}
-        }
-    }
-    let loc: Vec<[f64; 2]> = runs.iter().filter_map(|r| r.localization_error).collect();
-    let render: Vec<(u64, f64)> = runs.iter().filter_map(|r| r.render).collect();
-    let (frames, render_s) = render.iter().fold((0u64, 0.0), |a, r| (a.0 + r.0, a.1 + r.1));
-    let rendered = !render.is_empty();
-    let loc_mean = |k: usize| (!loc.is_empty()).then(|| loc.iter().map(|e| e[k]).sum::<f64>() / loc.len() as f64);
-    Aggregate {
-        localization_error_m: loc_mean(0),
-        localization_error_deg: loc_mean(1).map(f64::to_degrees),
-        ros_overhead: None,
-        frames: rendered.then_some(frames),
-        render_s: rendered.then_some(render_s),
-        render_frames_per_s: rendered.then(|| if render_s > 0.0 { frames as f64 / render_s } else { 0.0 }),
-        sim_s: physics.then_some(sim_s),
-        real_time_factor: physics.then(|| if wall_s > 0.0 { sim_s / wall_s } else { 0.0 }),
-        stuck: physics.then(|| runs.iter().filter(|r| r.stuck == Some(true)).count() as f64 / n),
-        failures,
-        episodes: runs.len(),
-        success: mean(&|m| m.success),
-        spl: mean(&|m| m.spl),
-        soft_spl: mean(&|m| m.soft_spl),
-        distance_to_goal: mean(&|m| m.distance_to_goal),
-        steps: mean(&|m| m.steps as f64),
-        collisions: mean(&|m| m.collisions as f64),
-        wall_s,
-        steps_per_s: if wall_s > 0.0 { total_steps / wall_s } else { 0.0 },
-    }
-}

@@ -496,6 +496,7 @@ impl EnvSetup {
             seed,
             nav: None,
             sensors: self.sensors.clone(),
+            episode_indices: None,
         }
     }
 }

@@ -63,7 +63,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     // the nodes register and connect, which is mostly waiting on the master.
     let mut first = ds.episodes.first().map(|ep| {
         let (w, ep, c) = (world.clone(), ep.clone(), cfg.clone());
-        tokio::task::spawn_blocking(move || make_env(&w, &ep, 0, &c))
+        tokio::task::spawn_blocking(move || make_env(&w, &ep, c.episode_index(0), &c))
     });
     let mounts = mounts(cfg);
     let mut sim = SimNode::new(uri, Names::plain("xhab_sim"), &mounts.laser_frame, opts.timeout).await?;
@@ -77,12 +77,12 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
         let t0 = Instant::now();
         let made = match first.take() {
             Some(h) => h.await.map_err(|e| RosError::Node(format!("building the first episode: {e}")))?,
-            None => make_env(&world, ep, i, cfg),
+            None => make_env(&world, ep, cfg.episode_index(i), cfg),
         };
         let o = match made {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((made, grid)) => {
-                let r = episode(&mut sim, made, &grid, &world.scene, ep, i, cfg, &mut clock_ns).await;
+                let r = episode(&mut sim, made, &grid, &world.scene, ep, cfg.episode_index(i), cfg, &mut clock_ns).await;
                 match r {
                     Ok(mut run) => {
                         run.wall_s = t0.elapsed().as_secs_f64();

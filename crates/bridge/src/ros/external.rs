@@ -187,7 +187,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
     for (i, ep) in ds.episodes.iter().enumerate() {
         let t_wall = Instant::now();
-        let o = match make_env(&world, ep, i, cfg) {
+        let o = match make_env(&world, ep, cfg.episode_index(i), cfg) {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((MadeEnv::Physics(env), grid)) => {
                 if let Some(c) = clear.as_ref() {
@@ -200,7 +200,7 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
                     // Again each episode, for subscribers that latching missed (see above).
                     sim.publish_static_tf(&mounts).await?;
                 }
-                let mut run = episode(&mut sim, &mut client, env, &grid, ep, i, cfg, opts, &mut clock).await?;
+                let mut run = episode(&mut sim, &mut client, env, &grid, ep, cfg.episode_index(i), cfg, opts, &mut clock).await?;
                 run.wall_s = t_wall.elapsed().as_secs_f64();
                 Outcome::Ran(run)
             }

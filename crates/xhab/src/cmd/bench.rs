@@ -81,6 +81,7 @@ fn bench_options(a: &BenchArgs) -> Result<BenchOptions> {
     Ok(BenchOptions {
         env,
         episodes: a.episodes.clone(),
+        episode_indices: None,
         agent,
         threads: a.threads.max(1),
         seed: a.seed,

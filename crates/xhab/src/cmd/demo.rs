@@ -37,7 +37,7 @@ pub fn run(a: &DemoArgs, quiet: bool) -> Result<ExitCode> {
     write_dataset(&ds, &eps_path).with_context(|| format!("writing {}", eps_path.display()))?;
     eprintln!("xhab: {} episodes in {}", ds.episodes.len(), eps_path.display());
     let threads = a.threads.unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1));
-    let cfg = RunConfig { agent: AgentKind::Oracle, task: TaskConfig::default(), threads, record_trajectories: true, sensors: None, physics: None, seed: a.seed, nav: None };
+    let cfg = RunConfig { agent: AgentKind::Oracle, task: TaskConfig::default(), threads, record_trajectories: true, sensors: None, physics: None, seed: a.seed, nav: None, episode_indices: None };
     let world = std::sync::Arc::new(world);
     let (report, outcomes) = super::bench::bench_loaded(&world, &ds, &cfg, &scene_id, &eps_path.display().to_string(), quiet)?;
     let results = a.out.join("results.json");

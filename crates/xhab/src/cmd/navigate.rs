@@ -57,7 +57,7 @@ pub fn run(a: &NavigateArgs) -> Result<ExitCode> {
         scan: Some(xhab_bridge::scan_source::ScanSource::lidar(Arc::new(rs), physics.profile.laser.lidar())),
         scan_period: 0.1,
     };
-    let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, sensors: None, physics: Some(physics), seed: 0, nav: Some(nav) };
+    let cfg = RunConfig { agent: AgentKind::Nav, task, threads: 1, record_trajectories: true, sensors: None, physics: Some(physics), seed: 0, nav: Some(nav), episode_indices: None };
     let outcome = run_episode(&world, &ep, 0, &cfg);
     let mut pic = MapPicture::new(&map);
     let cm = Costmap::from_map(&map, &params.global_costmap);
