@@ -106,28 +106,15 @@ pub enum ExperimentError {
     /// The report could not be made.
     #[error(transparent)]
     Report(#[from] crate::report::ReportError),
+    /// The SLURM submission failed.
+    #[error(transparent)]
+    Slurm(#[from] crate::slurm::SlurmError),
 }
 
 /// Runs `spec` into `o.out`: its parts (all, or a shard's), skipping those already there;
 /// unsharded, then merges them into `results.json`/`.csv` and the report.
 pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(dyn Fn(Progress<'_>) + Sync)) -> Result<ExperimentRun, ExperimentError> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| ExperimentError::Results(ResultsError::Io { path, source })
-    };
-    std::fs::create_dir_all(&o.out).map_err(io(&o.out))?;
-    let plan = plan(spec, &o.out)?;
-    let record = ExperimentRecord { spec: spec.clone(), plan: plan.clone() };
-    let record_path = ExperimentRecord::path(&o.out);
-    if record_path.exists() {
-        if !ExperimentRecord::read(&o.out)?.same_study(&record) {
-            return Err(ExperimentError::OtherStudy { dir: o.out.clone() });
-        }
-    } else {
-        let tmp = record_path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&tmp, serde_json::to_string_pretty(&record).unwrap_or_default() + "\n").map_err(io(&tmp))?;
-        std::fs::rename(&tmp, &record_path).map_err(io(&record_path))?;
-    }
+    let plan = prepare(spec, &o.out)?;
     let mine = parts(&plan, o.shard);
     progress(Progress::Planned { plan: &plan, parts: mine.len(), episodes: mine.iter().map(|p| p.end - p.first).sum() });
     let (mut ran, mut reused) = (0, 0);
@@ -152,9 +139,40 @@ pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(
     if o.shard.is_some() {
         return Ok(ExperimentRun { plan, ran, reused, results: None, report: None });
     }
-    let results = merge(std::slice::from_ref(&o.out), &o.out)?;
-    let report = if o.report { Some(crate::report::write_report(&o.out)?) } else { None };
+    let (results, report) = merge_and_report(std::slice::from_ref(&o.out), &o.out, o.report)?;
     Ok(ExperimentRun { plan, ran, reused, results: Some(results), report })
+}
+
+/// Plans `spec` into the folder `out`: generates its episode sets and writes
+/// `experiment.json`, or checks that the one there describes the same study.
+pub fn prepare(spec: &ExperimentSpec, out: &Path) -> Result<Plan, ExperimentError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| ExperimentError::Results(ResultsError::Io { path, source })
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let plan = plan(spec, out)?;
+    let record = ExperimentRecord { spec: spec.clone(), plan: plan.clone() };
+    let record_path = ExperimentRecord::path(out);
+    if record_path.exists() {
+        if !ExperimentRecord::read(out)?.same_study(&record) {
+            return Err(ExperimentError::OtherStudy { dir: out.to_path_buf() });
+        }
+    } else {
+        let tmp = record_path.with_extension(format!("tmp{}", std::process::id()));
+        std::fs::write(&tmp, serde_json::to_string_pretty(&record).unwrap_or_default() + "\n").map_err(io(&tmp))?;
+        std::fs::rename(&tmp, &record_path).map_err(io(&record_path))?;
+    }
+    Ok(plan)
+}
+
+/// `xhab merge`: the parts in `dirs` (shards of one study) merged into `out`, then the
+/// report when `report`; the results and the report's page.
+pub fn merge_and_report(dirs: &[PathBuf], out: &Path, report: bool) -> Result<(Results, Option<PathBuf>), ExperimentError> {
+    std::fs::create_dir_all(out).map_err(|source| ExperimentError::Results(ResultsError::Io { path: out.to_path_buf(), source }))?;
+    let results = merge(dirs, out)?;
+    let page = if report { Some(crate::report::write_report(out)?) } else { None };
+    Ok((results, page))
 }
 
 /// The part a bench run of episodes `first..end` makes; draws each floor's map once.

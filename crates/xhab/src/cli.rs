@@ -62,6 +62,62 @@ pub enum Command {
     /// ROS 1 nodes: the simulator, the native navigation stack, a discrete agent.
     #[command(subcommand)]
     Ros(RosCommand),
+    /// Run a study from a YAML file (scenes x agents x ±physics ±ROS x seeds): per-run bench
+    /// reports, results.json/.csv and an HTML report; resumable, shardable, or on SLURM.
+    Experiment(ExperimentArgs),
+    /// Merge the shards of a study (`experiment --shard K/N` folders) into one result and report.
+    Merge(MergeArgs),
+    /// Write the HTML report of a study folder (DIR/report/index.html).
+    Report(ReportArgs),
+}
+
+/// `xhab experiment`.
+#[derive(Debug, Args)]
+pub struct ExperimentArgs {
+    /// The study (YAML; see examples/four_configurations.yaml).
+    pub spec: PathBuf,
+    /// Folder for parts, per-run reports, results and the report [default: results/NAME].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Run only shard K of N (1-based) of the runs x episodes; `xhab merge` combines them.
+    #[arg(long, value_name = "K/N", conflicts_with = "slurm")]
+    pub shard: Option<xhab_experiment::Shard>,
+    /// Submit the study as a SLURM array job (one shard per task) plus a merge job.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Shards (array tasks) for --slurm.
+    #[arg(long, default_value_t = 4, requires = "slurm")]
+    pub shards: usize,
+    /// SLURM partition for --slurm.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// SLURM time limit per task for --slurm (e.g. 1:00:00).
+    #[arg(long, requires = "slurm")]
+    pub time: Option<String>,
+    /// Skip the HTML report.
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+/// `xhab merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Folders of the study's shards.
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Where the merged results go [default: the first folder].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Skip the HTML report.
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+/// `xhab report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// A study folder (with results.json).
+    pub dir: PathBuf,
 }
 
 /// `xhab localize`.

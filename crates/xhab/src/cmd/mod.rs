@@ -3,12 +3,15 @@
 mod bench;
 mod demo;
 mod episodes;
+mod experiment;
 mod geodesic;
 mod localize;
 mod map;
+mod merge;
 mod navigate;
 mod perf;
 mod render;
+mod report;
 mod ros;
 mod scene;
 
@@ -34,6 +37,9 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Scene(c) => scene::run(c),
         Command::Ros(c) => ros::run(c),
         Command::Localize(a) => localize::run(a),
+        Command::Experiment(a) => experiment::run(a, cli.quiet),
+        Command::Merge(a) => merge::run(a),
+        Command::Report(a) => report::run(a),
     }
 }
 
