@@ -14,3 +14,4 @@ mod localization;
 mod textures;
 mod ros_params;
 mod maps;
+mod experiment;
