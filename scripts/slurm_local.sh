@@ -3,31 +3,32 @@
 # (slurmctld + slurmd) with munge authentication, configured in a private folder.
 #   scripts/slurm_local.sh start DIR   # writes DIR/slurm.conf, starts munged, slurmctld, slurmd
 #   scripts/slurm_local.sh stop DIR    # stops the daemons this script started
-# Clients find the cluster through SLURM_CONF=DIR/slurm.conf. Needs root (the daemons run
-# as root here) and the packages slurm-wlm and munge.
+# Clients find the cluster through SLURM_CONF=DIR/slurm.conf. The daemons run as root (through
+# sudo when not root); jobs run as the user who submits them. Needs slurm-wlm and munge.
 set -euo pipefail
 cmd=${1:?usage: slurm_local.sh start|stop DIR}
 dir=${2:?usage: slurm_local.sh start|stop DIR}
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 host=$(hostname -s)
+if [ "$(id -u)" = 0 ]; then SUDO=(); else SUDO=(sudo -n); fi
 
 stop_pid() { # pidfile
   [ -f "$1" ] || return 0
   local pid; pid=$(cat "$1")
-  kill "$pid" 2>/dev/null || true
-  for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-  kill -9 "$pid" 2>/dev/null || true
-  rm -f "$1"
+  "${SUDO[@]}" kill "$pid" 2>/dev/null || true
+  for _ in $(seq 50); do [ -d "/proc/$pid" ] || break; sleep 0.1; done
+  "${SUDO[@]}" kill -9 "$pid" 2>/dev/null || true
+  "${SUDO[@]}" rm -f "$1"
 }
 
 case "$cmd" in
 start)
   # munge: the key the package made; its socket under /run/munge.
   if ! pgrep -x munged >/dev/null; then
-    install -d -o munge -g munge -m 0755 /run/munge
-    [ -f /etc/munge/munge.key ] || { echo "slurm_local: no /etc/munge/munge.key (install munge)" >&2; exit 1; }
-    runuser -u munge -- /usr/sbin/munged
+    "${SUDO[@]}" install -d -o munge -g munge -m 0755 /run/munge
+    "${SUDO[@]}" test -f /etc/munge/munge.key || { echo "slurm_local: no /etc/munge/munge.key (install munge)" >&2; exit 1; }
+    "${SUDO[@]}" runuser -u munge -- /usr/sbin/munged
     touch "$dir/started_munged"
   fi
   mkdir -p "$dir/state" "$dir/spool" "$dir/log"
@@ -62,8 +63,8 @@ NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
   export SLURM_CONF="$dir/slurm.conf"
-  /usr/sbin/slurmctld -f "$SLURM_CONF"
-  /usr/sbin/slurmd -f "$SLURM_CONF"
+  "${SUDO[@]}" /usr/sbin/slurmctld -f "$SLURM_CONF"
+  "${SUDO[@]}" /usr/sbin/slurmd -f "$SLURM_CONF"
   # Up when the node is idle.
   for _ in $(seq 100); do
     state=$(sinfo -h -N -o %t 2>/dev/null | head -1 || true)
@@ -78,7 +79,7 @@ stop)
   stop_pid "$dir/slurmd.pid"
   stop_pid "$dir/slurmctld.pid"
   if [ -f "$dir/started_munged" ]; then
-    pkill -x munged || true
+    "${SUDO[@]}" pkill -x munged || true
     rm -f "$dir/started_munged"
   fi
   ;;

@@ -7,8 +7,10 @@ cd "$(dirname "$0")/.."
 # System packages the tests need: real ROS 1 from Debian for the interop tests (rosmaster,
 # rospy, rostopic, rosbag and the message definitions rospy loads), and Mesa's Vulkan driver
 # (llvmpipe) so that the wgpu renderer runs headless without a GPU; python3-venv for the
-# Python package's virtual environment.
-pkgs=(python3-rosmaster python3-rospy python3-rostopic python3-rosbag
+# Python package's virtual environment; slurm-wlm and munge for the real single-node SLURM
+# cluster the experiment tests submit to (scripts/slurm_local.sh).
+pkgs=(slurm-wlm munge
+      python3-rosmaster python3-rospy python3-rostopic python3-rosbag
       python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs
       python3-tf2-msgs python3-rosgraph-msgs python3-actionlib python3-actionlib-msgs
       python3-tf2-ros python3-move-base-msgs python3-std-srvs
@@ -42,6 +44,7 @@ fi
 # The interop tests must run, not skip, wherever this script installed ROS.
 export XHAB_REQUIRE_ROS=1
 export XHAB_REQUIRE_GPU=1
+export XHAB_REQUIRE_SLURM=1
 ./scripts/check_deps.sh
 cargo test --workspace --locked 2>&1
 # The Python package (crates/python): wheel built into .venv, pytest.
