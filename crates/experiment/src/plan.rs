@@ -210,12 +210,10 @@ pub fn slug(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect()
 }
 
-/// A configuration's part of run ids: its name, or `physics_ros` / `nophysics_noros` style.
+/// A configuration's part of run ids, from what it switches on (`physics_ros`,
+/// `nophysics_noros`, ...): names are free text, and the switches tell configurations apart.
 fn config_slug(c: &Configuration) -> String {
-    match &c.name {
-        Some(n) => slug(n),
-        None => format!("{}physics_{}ros", if c.physics { "" } else { "no" }, if c.ros { "" } else { "no" }),
-    }
+    format!("{}physics_{}ros", if c.physics { "" } else { "no" }, if c.ros { "" } else { "no" })
 }
 
 #[cfg(test)]

@@ -323,6 +323,7 @@ impl ExperimentSpec {
         unique(self.scenes.iter().map(|s| s.label()), "scenes", "name")?;
         unique(self.agents.iter().map(|a| a.label()), "agents", "name")?;
         unique(self.configurations.iter().map(|c| c.label()), "configurations", "name")?;
+        unique(self.configurations.iter().map(|c| format!("physics: {}, ros: {}", c.physics, c.ros)), "configurations", "")?;
         unique(self.seeds.iter().map(|s| s.to_string()), "seeds", "")?;
         Ok(())
     }
@@ -422,6 +423,8 @@ mod tests {
         assert!(e.contains("agents[0].nav_params[0]"), "{e}");
         let e = parse("name: s\nscenes: [{scene: '${XHAB_SURELY_UNSET_VAR}/a.glb', episodes: a}]\nagents: [{agent: oracle}]\n").unwrap_err().to_string();
         assert!(e.contains("scenes[0].scene") && e.contains("XHAB_SURELY_UNSET_VAR"), "{e}");
+        let e = parse("name: s\nscenes: [{scene: x, episodes: a}]\nagents: [{agent: oracle}]\nconfigurations: [{physics: true, ros: false}, {name: again, physics: true, ros: false}]\n").unwrap_err().to_string();
+        assert!(e.contains("configurations[1]") && e.contains("physics: true, ros: false"), "{e}");
         let e = parse("name: s\nscenes: [{scene: x, episodes: a}]\nagents: [{agent: oracle}]\nthreads: 0\n").unwrap_err().to_string();
         assert!(e.contains("`threads`"), "{e}");
     }
