@@ -1,5 +1,7 @@
 //! The HTML report of a study folder (placeholder until the report lands).
 
+pub mod stats;
+
 use std::path::{Path, PathBuf};
 
 /// Why the report could not be made.
