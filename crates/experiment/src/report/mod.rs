@@ -3,6 +3,7 @@
 //! the file system. [`summary`] computes the numbers, [`stats`] their intervals, [`figures`]
 //! draws the charts, [`trajectories`] the maps and [`html`] writes the page.
 
+pub mod example;
 pub mod figures;
 pub mod html;
 pub mod stats;
@@ -82,3 +83,6 @@ pub fn write_report(dir: &Path) -> Result<PathBuf, ReportError> {
     std::fs::write(&path, page).map_err(|source| ReportError::Io { path: path.clone(), source })?;
     Ok(path)
 }
+
+#[cfg(test)]
+mod tests;
