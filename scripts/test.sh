@@ -14,7 +14,7 @@ pkgs=(slurm-wlm munge
       python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs
       python3-tf2-msgs python3-rosgraph-msgs python3-actionlib python3-actionlib-msgs
       python3-tf2-ros python3-move-base-msgs python3-std-srvs
-      mesa-vulkan-drivers python3-venv)
+      mesa-vulkan-drivers python3-venv chromium)
 need=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || need+=("$p")
@@ -45,6 +45,7 @@ fi
 export XHAB_REQUIRE_ROS=1
 export XHAB_REQUIRE_GPU=1
 export XHAB_REQUIRE_SLURM=1
+export XHAB_REQUIRE_CHROMIUM=1
 ./scripts/check_deps.sh
 cargo test --workspace --locked 2>&1
 # The Python package (crates/python): wheel built into .venv, pytest.

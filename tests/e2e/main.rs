@@ -1,4 +1,5 @@
-//! End-to-end tests of the xhab workspace: the CLI on real data, ROS interop, the shipped maps.
+//! End-to-end tests of the xhab workspace: the CLI on real data, ROS interop, the shipped maps,
+//! the experiment report in a headless browser.
 //! They are the `xhab` package's integration tests (`cargo test -p xhab --test e2e`), kept
 //! here at the top level because they cross crates.
 mod common;
@@ -15,3 +16,4 @@ mod textures;
 mod ros_params;
 mod maps;
 mod experiment;
+mod report;
