@@ -18,5 +18,6 @@ pub mod nav_perf;
 pub mod report;
 pub mod runner;
 pub mod scan_source;
+pub mod scene_perf;
 pub mod setup;
 pub mod ros;

@@ -57,11 +57,10 @@ pub enum NavPerfError {
 pub fn nav_perf(world: &World, scene_id: &str, robot: &str) -> Result<NavPerf, NavPerfError> {
     let ds = generate(world, scene_id, "auto", NAV_PERF_EPISODES, NAV_PERF_SEED, scene_id)?;
     let physics = physics_setup(world, &PhysicsOptions { robot: robot.to_string(), ..Default::default() })?;
-    let mut loaded = xhab_nav::ros_params::load_nav_params(&[])?;
-    loaded.size_to_robot(physics.profile.radius, physics.profile.footprint.as_deref());
+    let (params, _no_files_no_warnings) = crate::benchmark::nav_params(&[], Some(&physics.profile))?;
     let rays = RayScene::new(&world.scene).ok_or(NavPerfError::NoTriangles)?;
     let scan = ScanSource::lidar(Arc::new(rays), physics.profile.laser.lidar());
-    let nav = NavSetup { params: loaded.params, map: None, localization: Localization::Amcl, scan: Some(scan), scan_period: 0.1 };
+    let nav = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(scan), scan_period: 0.1 };
     let cfg = RunConfig { agent: AgentKind::Nav, task: TaskConfig::default(), threads: 1, record_trajectories: false, physics: Some(physics), seed: 0, nav: Some(nav), sensors: None };
     let t = Instant::now();
     let outcomes = run_dataset(world, &ds, &cfg, &|| {});

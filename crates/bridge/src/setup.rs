@@ -314,6 +314,18 @@ impl Default for PhysicsOptions {
     }
 }
 
+impl PhysicsOptions {
+    /// The physics settings of these options: the control period and the physics rate, the
+    /// rest (gravity, odometry noise, stuck detection) at their defaults.
+    pub fn config(&self) -> PhysicsConfig {
+        PhysicsConfig {
+            control_period: self.control_period,
+            physics: xhab_sim::robot::PhysicsParams { steps_per_sec: self.steps_per_sec, ..Default::default() },
+            ..Default::default()
+        }
+    }
+}
+
 /// The physics setup: the robot, the scene's rigid mesh (shared by every episode) and the
 /// settings.
 pub fn physics_setup(world: &World, o: &PhysicsOptions) -> Result<PhysicsSetup, SetupError> {
@@ -321,12 +333,7 @@ pub fn physics_setup(world: &World, o: &PhysicsOptions) -> Result<PhysicsSetup, 
     let t = Instant::now();
     let scene = PhysicsScene::new(&world.scene).map_err(SetupError::Physics)?;
     tracing::info!("physics mesh built in {:.3} s", t.elapsed().as_secs_f64());
-    let config = PhysicsConfig {
-        control_period: o.control_period,
-        physics: xhab_sim::robot::PhysicsParams { steps_per_sec: o.steps_per_sec, ..Default::default() },
-        ..Default::default()
-    };
-    Ok(PhysicsSetup { scene: Arc::new(scene), profile, config })
+    Ok(PhysicsSetup { scene: Arc::new(scene), profile, config: o.config() })
 }
 
 /// The camera's options (the CLI's `Camera` options).
