@@ -288,11 +288,7 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
 #[allow(clippy::too_many_arguments)]
 fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, file: &str, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<(BenchReport, Vec<Outcome>), BenchError> {
     let name = cfg.agent.name();
-    let local = || -> Result<(BenchReport, Vec<Outcome>), BenchError> {
-        let t0 = Instant::now();
-        let out = run_dataset_until(world, ds, cfg, cancel, progress).map_err(|_| BenchError::Cancelled)?;
-        Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, name, scene, file, false), out))
-    };
+    let local = || bench_loaded(world, ds, cfg, scene, file, cancel, progress);
     if matches!(o.transport, Transport::InProcess) {
         return local();
     }
@@ -316,6 +312,15 @@ fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
     r.aggregate.ros_overhead = Some(r.aggregate.wall_s / l.aggregate.wall_s.max(1e-9));
     r.ros_check = Some(compare_outcomes(&l_out, &r_out));
     Ok((r, r_out))
+}
+
+/// Runs `cfg`'s agent in this process on every episode of `ds` in the loaded `world` and
+/// builds the report (`scene` and `episodes_file` name them in it); `progress` is called once
+/// per finished episode. Ends with [`BenchError::Cancelled`] once `cancel` is set.
+pub fn bench_loaded(world: &World, ds: &Dataset, cfg: &RunConfig, scene: &str, episodes_file: &str, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<(BenchReport, Vec<Outcome>), BenchError> {
+    let t0 = Instant::now();
+    let out = run_dataset_until(world, ds, cfg, cancel, progress).map_err(|_| BenchError::Cancelled)?;
+    Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, cfg.agent.name(), scene, episodes_file, false), out))
 }
 
 /// The static map of `--map`, if given.

@@ -9,6 +9,7 @@
 
 pub mod agents;
 pub mod benchmark;
+pub mod demo;
 pub mod explore;
 pub mod global_localization;
 pub mod gym;
