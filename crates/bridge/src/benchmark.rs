@@ -19,13 +19,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_nav::depth_to_scan::DepthToScanParams;
-use xhab_nav::map_server::{load_map, MapError};
 use xhab_nav::navigator::NavParams;
 use xhab_nav::ros_params::load_nav_params;
 pub use xhab_nav::ros_params::{ParamError, ParamFile};
 use xhab_sim::episode::Dataset;
 use xhab_sim::robot::RobotProfile;
-use xhab_sim::sensors::{CameraRig, RayScene, Renderer};
+use xhab_sim::sensors::{CameraRig, Renderer};
 use xhab_sim::world::World;
 use xhab_types::OccupancyGrid;
 
@@ -163,24 +162,12 @@ pub enum BenchError {
     /// The nav parameter files could not be loaded.
     #[error("--nav-params")]
     NavParams(#[source] ParamError),
-    /// The static map could not be loaded.
-    #[error("loading map {path}")]
-    Map {
-        /// The YAML file.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        source: MapError,
-    },
     /// Options that do not go together or are out of range.
     #[error("{0}")]
     Options(String),
     /// Bad simulator node names (`--ros-arg`).
     #[error("--ros-arg")]
     Names(#[source] NameError),
-    /// The scene has no triangles for the lidar to hit.
-    #[error("the scene has no triangles to scan")]
-    NothingToScan,
     /// The run over ROS failed.
     #[error("running the benchmark over ROS")]
     Ros(#[source] RosError),
@@ -326,7 +313,7 @@ pub fn bench_loaded(world: &World, ds: &Dataset, cfg: &RunConfig, scene: &str, e
 /// The static map of `--map`, if given.
 fn static_map(o: &BenchOptions) -> Result<Option<OccupancyGrid>, BenchError> {
     match &o.nav.map {
-        Some(m) => Ok(Some(load_map(m).map_err(|source| BenchError::Map { path: m.clone(), source })?.0)),
+        Some(m) => Ok(Some(setup::load_static_map(m)?)),
         None => Ok(None),
     }
 }
@@ -338,7 +325,7 @@ fn scan_source(o: &BenchOptions, env: &EnvOptions, s: &EnvSetup) -> Result<Optio
     Ok(match o.nav.scans {
         None => None,
         Some(ScanKind::Lidar) => {
-            let rs = RayScene::new(&s.world.scene).ok_or(BenchError::NothingToScan)?;
+            let rs = setup::ray_scene(&s.world.scene)?;
             let lidar = robot.map_or_else(Default::default, |r| r.laser.lidar());
             Some(ScanSource::lidar(Arc::new(rs), lidar))
         }

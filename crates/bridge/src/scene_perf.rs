@@ -204,9 +204,6 @@ pub enum PerfError {
     /// A view could not be rendered.
     #[error(transparent)]
     Render(#[from] RenderError),
-    /// The scene has nothing for the lidar to see (AMCL figure).
-    #[error("the scene has no triangles")]
-    NoTriangles,
     /// The navigation loop could not be timed.
     #[error(transparent)]
     Nav(#[from] NavPerfError),
@@ -497,8 +494,8 @@ fn random_action(rng: &mut ChaCha8Rng) -> Action {
 /// every second update), on one core, for about `seconds`.
 fn amcl_perf(world: &World, grid: &NavGrid, episodes: &[Episode], seconds: f64) -> Result<AmclPerf, PerfError> {
     use xhab_nav::amcl::{Amcl, AmclParams};
-    use xhab_sim::sensors::{Lidar, LidarParams, RayScene};
-    let rs = RayScene::new(&world.scene).ok_or(PerfError::NoTriangles)?;
+    use xhab_sim::sensors::{Lidar, LidarParams};
+    let rs = setup::ray_scene(&world.scene)?;
     let map = grid.occupancy_grid();
     // Exactly 5,000 particles: init() spreads max(min, max / 2) and KLD may not go below min.
     let params = AmclParams { min_particles: PERF_AMCL_PARTICLES, max_particles: PERF_AMCL_PARTICLES, laser_max_beams: PERF_AMCL_BEAMS, ..Default::default() };

@@ -16,7 +16,7 @@ use xhab_sim::navgrid::{AgentParams, NavGrid, NavGridError};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsError, PhysicsScene, ProfileError, RobotProfile};
 use xhab_sim::scene::{self, LoadOptions, Scene, SceneError, UpAxis};
-use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RenderError, Renderer, RendererKind};
+use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RayScene, RenderError, Renderer, RendererKind};
 use xhab_sim::world::World;
 use xhab_types::{OccupancyGrid, Point3};
 
@@ -115,6 +115,18 @@ pub enum SetupError {
     /// The wgpu renderer asked for explicitly could not be built.
     #[error("--renderer wgpu: {0}")]
     Wgpu(RenderError),
+    /// A map_server map could not be loaded.
+    #[error("loading map {}", path.display())]
+    Map {
+        /// The YAML file.
+        path: std::path::PathBuf,
+        /// Why.
+        #[source]
+        source: xhab_nav::map_server::MapError,
+    },
+    /// The scene has no triangles for a lidar to hit.
+    #[error("the scene has no triangles to scan")]
+    NothingToScan,
 }
 
 /// How to read a scene and which agent its grids are built for (the CLI's `Scene` and
@@ -217,6 +229,16 @@ pub fn floor_map(world: &World, grid: &NavGrid, laser_height: Option<f64>) -> Re
         Some(h) => grid.slice_map(&world.scene, h, crate::nav_agent::SCAN_PLANE_HALF_BAND),
         None => grid.occupancy_grid(),
     })
+}
+
+/// Loads a map_server map (its YAML file and the image it names).
+pub fn load_static_map(path: &Path) -> Result<OccupancyGrid, SetupError> {
+    xhab_nav::map_server::load_map(path).map(|(map, _)| map).map_err(|source| SetupError::Map { path: path.to_path_buf(), source })
+}
+
+/// The scene's triangles for ray casting (lidar scans); fails on a scene without any.
+pub fn ray_scene(scene: &Scene) -> Result<RayScene, SetupError> {
+    RayScene::new(scene).ok_or(SetupError::NothingToScan)
 }
 
 /// A map that could not be written.
