@@ -16,6 +16,7 @@ pub mod gym;
 pub mod map_picture;
 pub mod nav_agent;
 pub mod nav_perf;
+pub mod navigate;
 pub mod report;
 pub mod runner;
 pub mod scan_source;
