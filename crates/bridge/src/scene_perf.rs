@@ -192,9 +192,6 @@ pub enum PerfError {
     /// `seconds` is not a positive number.
     #[error("--seconds must be a positive number of seconds")]
     BadSeconds,
-    /// The floor has no navigable point to sample.
-    #[error("no navigable point")]
-    NoNavigablePoint,
     /// No sampled start could reach its goal.
     #[error("no valid episode to step (no sampled start reaches its goal)")]
     NoValidEpisode,
@@ -237,7 +234,7 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
     let cells = grid.cells_on_islands(1.5);
     let cells = if cells.is_empty() { grid.cells_on_islands(0.0) } else { cells };
     let mut rng = ChaCha8Rng::seed_from_u64(7);
-    let mut sample = || grid.sample_navigable_point(&cells, &mut rng).ok_or(PerfError::NoNavigablePoint);
+    let mut sample = || grid.sample_navigable_point(&cells, &mut rng).ok_or(PerfError::Setup(SetupError::NoNavigablePoint));
 
     // Geodesic fields and queries.
     let goals: Vec<_> = (0..PERF_GOALS).map(|_| sample()).collect::<Result<_, _>>()?;

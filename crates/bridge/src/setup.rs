@@ -124,6 +124,9 @@ pub enum SetupError {
         #[source]
         source: xhab_nav::map_server::MapError,
     },
+    /// The floor has no navigable point to start from.
+    #[error("no navigable point in the scene")]
+    NoNavigablePoint,
     /// The scene has no triangles for a lidar to hit.
     #[error("the scene has no triangles to scan")]
     NothingToScan,

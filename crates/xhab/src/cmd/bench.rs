@@ -13,10 +13,9 @@ use xhab_bridge::nav_agent::Localization;
 use xhab_bridge::report::{episodes_csv, BenchReport};
 use xhab_bridge::ros::external::MapOdom;
 use xhab_bridge::ros::move_base_client::GoalInterface;
-use xhab_bridge::runner::{Aggregate, PhysicsSetup};
+use xhab_bridge::runner::Aggregate;
 use xhab_bridge::setup::{EnvOptions, PhysicsOptions};
 use xhab_sim::env::TaskConfig;
-use xhab_sim::world::World;
 
 pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let o = bench_options(a)?;
@@ -145,14 +144,6 @@ fn finish(a: &BenchArgs, run: &BenchRun) -> Result<()> {
     print_table(&run.report.aggregate, run.report.invalid.count, &run.report.agent);
     print_ros_ends(&run.report);
     Ok(())
-}
-
-/// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.
-pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSetup>> {
-    if !o.physics {
-        return Ok(None);
-    }
-    Ok(Some(xhab_bridge::setup::physics_setup(world, &physics_options(o))?))
 }
 
 /// How an external stack's episodes ended (`--agent ros`): terminal action states and why
