@@ -155,3 +155,22 @@ async fn run_lockstep(node: RosNode, world: Arc<World>, kind: AgentKind, task: T
         last = Some(r);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_that_does_not_load_fails_before_any_master_is_used() {
+        let o = AgentNodeOptions {
+            scene: "/nonexistent/house.glb".into(),
+            scene_options: SceneOptions::default(),
+            // Nothing listens there: reaching it would be a different error.
+            master: Some("http://127.0.0.1:9/".into()),
+            names: Names::from_args("xhab_agent", &[], None).unwrap(),
+            timeout: Duration::from_secs(1),
+        };
+        let e = serve(&o).unwrap_err();
+        assert!(matches!(e, AgentNodeError::Setup(_)) && e.to_string().starts_with("loading scene /nonexistent/house.glb"), "{e}");
+    }
+}

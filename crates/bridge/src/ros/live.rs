@@ -333,3 +333,68 @@ async fn pace(t0: Instant, sim_s: f64, rate: f64) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use xhab_sim::sensors::RendererKind;
+
+    fn spec() -> SimSpec {
+        SimSpec {
+            scene: "procedural:3".into(),
+            scene_options: SceneOptions::default(),
+            physics: None,
+            map: None,
+            amcl_map: None,
+            start: None,
+            publish_camera: false,
+            rgb: false,
+            camera: CameraOptions { renderer: Some(RendererKind::Raster), resolution: 16, ..Default::default() },
+            depth_noise: 0.0,
+            edge_dropout: 0.0,
+            rate: 1.0,
+            period: 0.05,
+            duration: None,
+            seed: 0,
+            map_odom_ground_truth: false,
+            master: None,
+            names: Names::from_args("xhab_sim", &[], None).unwrap(),
+            lockstep: false,
+            timeout: Duration::from_secs(1),
+        }
+    }
+
+    #[test]
+    fn the_simulator_is_built_from_its_spec() {
+        let sim = LiveSim::build(&spec()).unwrap();
+        let o = &sim.options;
+        assert!(sim.grid.is_navigable(o.start.position()), "a random start is navigable");
+        assert_eq!(o.start_z, sim.grid.floor_z);
+        assert!(o.physics.is_none() && o.camera.is_none() && sim.renderer_note.is_none());
+        assert!(o.map.is_some() && o.amcl_map.is_some() && o.lidar.is_some());
+        assert_eq!(o.mounts.laser_frame, "laser");
+        // Under physics, with the camera: the robot's mounts, its radius, the camera at its height.
+        let robot = PhysicsOptions { robot: "turtlebot3_burger".into(), ..Default::default() };
+        let given = Pose2::new(1.0, 2.0, 0.5);
+        let sim = LiveSim::build(&SimSpec { physics: Some(robot), publish_camera: true, rgb: true, start: Some(given), ..spec() }).unwrap();
+        let o = &sim.options;
+        let ph = o.physics.as_ref().expect("physics");
+        assert_eq!(ph.profile.name, "turtlebot3_burger");
+        assert!((sim.grid.params.radius - ph.profile.radius).abs() < 1e-12);
+        assert_eq!(o.mounts.laser_frame, ph.profile.laser.frame);
+        let (_, cam, rgb) = o.camera.as_ref().expect("camera");
+        assert!(*rgb && cam.width == 16 && (cam.mount_height - ph.profile.camera_height).abs() < 1e-12);
+        assert!(sim.renderer_note.as_deref().is_some_and(|n| n.starts_with("raster")));
+        assert_eq!(o.start, given);
+    }
+
+    #[test]
+    fn bad_options_are_errors_naming_the_flag_or_file() {
+        let e = |s: SimSpec| LiveSim::build(&s).expect_err("should fail").to_string();
+        assert_eq!(e(SimSpec { depth_noise: -1.0, ..spec() }), "--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
+        // The camera's options are checked even with the camera off.
+        assert!(e(SimSpec { camera: CameraOptions { resolution: 0, ..Default::default() }, ..spec() }).contains("--resolution"));
+        assert!(e(SimSpec { map: Some("/nonexistent/map.yaml".into()), ..spec() }).starts_with("loading map /nonexistent/map.yaml"));
+        assert!(e(SimSpec { physics: Some(PhysicsOptions { robot: "no_such_robot".into(), ..Default::default() }), ..spec() }).starts_with("--robot no_such_robot"));
+    }
+}

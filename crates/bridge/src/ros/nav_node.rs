@@ -527,3 +527,35 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> NavNodeSpec {
+        NavNodeSpec { map: None, amcl_map: None, localization: Localization::Amcl, nav_params: Vec::new(), robot: "turtlebot3_burger".into(), seed: 3, lockstep: false, timeout: Duration::from_secs(1) }
+    }
+
+    #[test]
+    fn the_costmaps_take_the_robots_size_and_files_warn_or_fail() {
+        let node = NavNodeSetup::build(&spec()).unwrap();
+        let robot = setup::robot_profile("turtlebot3_burger").unwrap();
+        let (sized, _) = nav_params(&[], Some(&robot)).unwrap();
+        assert_eq!(node.options.setup.params, sized);
+        assert_eq!((node.options.seed, node.options.setup.localization), (3, Localization::Amcl));
+        assert!(node.map.is_none() && node.amcl_map.is_none() && node.warnings.is_empty());
+        let dir = std::env::temp_dir().join(format!("xhab-nav-node-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let y = dir.join("nav.yaml");
+        std::fs::write(&y, "DWAPlannerROS:\n  no_such_key: 1\n").unwrap();
+        let node = NavNodeSetup::build(&NavNodeSpec { nav_params: vec![y.to_str().unwrap().parse().unwrap()], ..spec() }).unwrap();
+        assert!(node.warnings.iter().any(|w| w.contains("no_such_key")), "{:?}", node.warnings);
+        std::fs::write(&y, "DWAPlannerROS:\n  sim_granularity: 0\n").unwrap();
+        let e = NavNodeSetup::build(&NavNodeSpec { nav_params: vec![y.to_str().unwrap().parse().unwrap()], ..spec() }).unwrap_err().to_string();
+        assert!(e.contains("nav.yaml: DWAPlannerROS/sim_granularity"), "{e}");
+        let e = NavNodeSetup::build(&NavNodeSpec { amcl_map: Some(dir.join("none.yaml")), ..spec() }).unwrap_err().to_string();
+        assert!(e.starts_with("loading map"), "{e}");
+        assert!(NavNodeSetup::build(&NavNodeSpec { robot: "no_such_robot".into(), ..spec() }).unwrap_err().to_string().starts_with("--robot no_such_robot"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
