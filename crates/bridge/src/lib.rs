@@ -5,6 +5,9 @@
 //! sequential or parallel with identical results; [`setup`]: environments built from the
 //! options the CLI and the Python package share; [`report`]: the benchmark report;
 //! [`gym`]: a Gymnasium-style PointNav environment (reset, step, reward), single or batched.
+//! One entry point per command the CLI runs: [`scene_perf::measure_scene`] (`perf`),
+//! [`navigate::navigate_once`], [`demo::run_demo`], [`global_localization::run_localize`]
+//! (`localize`), and the ROS nodes' builders in [`ros`].
 #![warn(missing_docs)]
 
 pub mod agents;
