@@ -19,13 +19,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_nav::depth_to_scan::DepthToScanParams;
-use xhab_nav::map_server::{load_map, MapError};
 use xhab_nav::navigator::NavParams;
 use xhab_nav::ros_params::load_nav_params;
 pub use xhab_nav::ros_params::{ParamError, ParamFile};
 use xhab_sim::episode::Dataset;
 use xhab_sim::robot::RobotProfile;
-use xhab_sim::sensors::{CameraRig, RayScene, Renderer};
+use xhab_sim::sensors::{CameraRig, Renderer};
 use xhab_sim::world::World;
 use xhab_types::OccupancyGrid;
 
@@ -167,24 +166,12 @@ pub enum BenchError {
     /// The nav parameter files could not be loaded.
     #[error("--nav-params")]
     NavParams(#[source] ParamError),
-    /// The static map could not be loaded.
-    #[error("loading map {path}")]
-    Map {
-        /// The YAML file.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        source: MapError,
-    },
     /// Options that do not go together or are out of range.
     #[error("{0}")]
     Options(String),
     /// Bad simulator node names (`--ros-arg`).
     #[error("--ros-arg")]
     Names(#[source] NameError),
-    /// The scene has no triangles for the lidar to hit.
-    #[error("the scene has no triangles to scan")]
-    NothingToScan,
     /// The run over ROS failed.
     #[error("running the benchmark over ROS")]
     Ros(#[source] RosError),
@@ -311,11 +298,7 @@ fn select_episodes(ds: &mut Dataset, indices: Option<&[usize]>, file: &std::path
 #[allow(clippy::too_many_arguments)]
 fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, file: &str, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<(BenchReport, Vec<Outcome>), BenchError> {
     let name = cfg.agent.name();
-    let local = || -> Result<(BenchReport, Vec<Outcome>), BenchError> {
-        let t0 = Instant::now();
-        let out = run_dataset_until(world, ds, cfg, cancel, progress).map_err(|_| BenchError::Cancelled)?;
-        Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, name, scene, file, false), out))
-    };
+    let local = || bench_loaded(world, ds, cfg, scene, file, cancel, progress);
     if matches!(o.transport, Transport::InProcess) {
         return local();
     }
@@ -341,10 +324,19 @@ fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
     Ok((r, r_out))
 }
 
+/// Runs `cfg`'s agent in this process on every episode of `ds` in the loaded `world` and
+/// builds the report (`scene` and `episodes_file` name them in it); `progress` is called once
+/// per finished episode. Ends with [`BenchError::Cancelled`] once `cancel` is set.
+pub fn bench_loaded(world: &World, ds: &Dataset, cfg: &RunConfig, scene: &str, episodes_file: &str, cancel: &AtomicBool, progress: &(dyn Fn() + Sync)) -> Result<(BenchReport, Vec<Outcome>), BenchError> {
+    let t0 = Instant::now();
+    let out = run_dataset_until(world, ds, cfg, cancel, progress).map_err(|_| BenchError::Cancelled)?;
+    Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, cfg.agent.name(), scene, episodes_file, false), out))
+}
+
 /// The static map of `--map`, if given.
 fn static_map(o: &BenchOptions) -> Result<Option<OccupancyGrid>, BenchError> {
     match &o.nav.map {
-        Some(m) => Ok(Some(load_map(m).map_err(|source| BenchError::Map { path: m.clone(), source })?.0)),
+        Some(m) => Ok(Some(setup::load_static_map(m)?)),
         None => Ok(None),
     }
 }
@@ -356,7 +348,7 @@ fn scan_source(o: &BenchOptions, env: &EnvOptions, s: &EnvSetup) -> Result<Optio
     Ok(match o.nav.scans {
         None => None,
         Some(ScanKind::Lidar) => {
-            let rs = RayScene::new(&s.world.scene).ok_or(BenchError::NothingToScan)?;
+            let rs = setup::ray_scene(&s.world.scene)?;
             let lidar = robot.map_or_else(Default::default, |r| r.laser.lidar());
             Some(ScanSource::lidar(Arc::new(rs), lidar))
         }

@@ -3,11 +3,17 @@
 //! not depend on the filter) from an episode's start to random goals; a trial converges when
 //! the estimate comes within `tolerance` of the truth before `max_travel` metres of travel.
 
+use crate::benchmark::{nav_params, ParamError, ParamFile};
 use crate::nav_agent::{episode_time, Localization, NavBrain, NavInputs, NavReply, NavSetup};
 use crate::runner::PhysicsSetup;
+use crate::scan_source::ScanSource;
+use crate::setup::{self, PhysicsOptions, SceneOptions, SetupError};
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
-use xhab_nav::amcl::Amcl;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use xhab_nav::amcl::{Amcl, AmclParams};
 use xhab_sim::env::{EnvView, TaskConfig};
 use xhab_sim::episode::Episode;
 use xhab_sim::physics_env::PhysicsEnv;
@@ -23,6 +29,12 @@ pub struct GlobalLocConfig {
     pub max_travel: f64,
     /// Seed of trial i is `seed + i` (AMCL, odometry noise, goals).
     pub seed: u64,
+}
+
+impl Default for GlobalLocConfig {
+    fn default() -> Self {
+        Self { tolerance: 0.2, max_travel: 10.0, seed: 0 }
+    }
 }
 
 /// One trial's outcome.
@@ -42,6 +54,127 @@ pub struct GlobalLocTrial {
     pub travel_m: f64,
     /// Filter updates.
     pub updates: usize,
+}
+
+/// What `xhab localize` runs, as its flags give it.
+#[derive(Debug, Clone)]
+pub struct LocalizeOptions {
+    /// The SCENE argument: a file or `procedural[:SEED]`.
+    pub scene: String,
+    /// How to read it; the grids are built for the robot's radius unless one is given.
+    pub scene_options: SceneOptions,
+    /// Episodes whose starts the trials use (Habitat PointNav `.json.gz` or `.json`).
+    pub episodes: PathBuf,
+    /// Number of trials.
+    pub trials: usize,
+    /// Tolerance, travel budget and seed of the trials.
+    pub config: GlobalLocConfig,
+    /// The map AMCL localises on (map_server YAML); `None`: the scene cut at the lidar's height.
+    pub map: Option<PathBuf>,
+    /// ROS parameter files, layered in order (`FILE[@NAMESPACE]`).
+    pub nav_params: Vec<ParamFile>,
+    /// Particles spread over the free space at the start (AMCL's max_particles; at least 1).
+    pub particles: usize,
+    /// The robot (its radius, lidar and costmap shape) and its physics.
+    pub physics: PhysicsOptions,
+}
+
+/// The trials' results; serialized, the JSON `xhab localize --out` writes.
+#[derive(Debug, Clone, Serialize)]
+pub struct LocalizeReport {
+    /// The SCENE argument.
+    pub scene: String,
+    /// Trials that ran.
+    pub trials: usize,
+    /// Convergence tolerance (m).
+    pub tolerance_m: f64,
+    /// Particles spread at the start.
+    pub particles: usize,
+    /// The AMCL parameters in effect.
+    pub amcl: AmclParams,
+    /// Travel budget (m).
+    pub max_travel_m: f64,
+    /// Fraction of the trials that converged.
+    pub converged_fraction: f64,
+    /// Mean travel at convergence over the converged trials (m; 0 without any).
+    pub mean_travel_at_convergence_m: f64,
+    /// Fraction of the trials within tolerance at their end.
+    pub within_tolerance_at_end_fraction: f64,
+    /// Wall time of the trials (s).
+    pub wall_s: f64,
+    /// Each trial.
+    pub per_trial: Vec<GlobalLocTrial>,
+    /// Warnings for the user (unknown nav parameters), in order (not in the JSON).
+    #[serde(skip)]
+    pub warnings: Vec<String>,
+}
+
+impl LocalizeReport {
+    /// Trials that converged.
+    pub fn converged(&self) -> usize {
+        self.per_trial.iter().filter(|t| t.converged).count()
+    }
+
+    /// Trials within tolerance at their end.
+    pub fn within_tolerance_at_end(&self) -> usize {
+        self.per_trial.iter().filter(|t| t.final_error_m < self.tolerance_m).count()
+    }
+}
+
+/// Why the trials could not run. Messages name the flag or file, as the CLI spells them.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum LocalizeError {
+    /// The scene, robot, physics, episodes or map could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The nav parameter files could not be loaded.
+    #[error(transparent)]
+    NavParams(#[from] ParamError),
+    /// No particle to spread.
+    #[error("--particles must be at least 1")]
+    NoParticles,
+}
+
+/// Runs the global localisation trials `o` describes: the robot (profile, radius, lidar,
+/// physics) on the scene, AMCL with the nav parameters sized to it, one trial per episode
+/// start (cycling) until `o.trials`.
+pub fn run_localize(o: &LocalizeOptions) -> Result<LocalizeReport, LocalizeError> {
+    if o.particles == 0 {
+        return Err(LocalizeError::NoParticles);
+    }
+    let profile = setup::robot_profile(&o.physics.robot)?;
+    let mut scene_options = o.scene_options.clone();
+    scene_options.agent_radius.get_or_insert(profile.radius);
+    let world = setup::load_world(&o.scene, &scene_options)?;
+    let ds = setup::read_episodes(&o.episodes)?;
+    let physics = setup::physics_setup(&world, &o.physics)?;
+    let (mut params, warnings) = nav_params(&o.nav_params, Some(&profile))?;
+    params.amcl.max_particles = o.particles;
+    let rays = setup::ray_scene(&world.scene)?;
+    let nav = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(ScanSource::lidar(Arc::new(rays), profile.laser.lidar())), scan_period: 0.1 };
+    let map = o.map.as_deref().map(setup::load_static_map).transpose()?;
+    let t = Instant::now();
+    let trials = run_trials(&world, &ds.episodes, o.trials, &physics, &nav, map.as_ref(), &o.config);
+    let wall_s = t.elapsed().as_secs_f64();
+    let n = trials.len().max(1) as f64;
+    let conv = trials.iter().filter(|t| t.converged).count();
+    let mean_travel = trials.iter().filter_map(|t| t.travel_at_convergence_m).sum::<f64>() / conv.max(1) as f64;
+    let still = trials.iter().filter(|t| t.final_error_m < o.config.tolerance).count();
+    Ok(LocalizeReport {
+        scene: o.scene.clone(),
+        trials: trials.len(),
+        tolerance_m: o.config.tolerance,
+        particles: o.particles,
+        amcl: nav.params.amcl,
+        max_travel_m: o.config.max_travel,
+        converged_fraction: conv as f64 / n,
+        mean_travel_at_convergence_m: mean_travel,
+        within_tolerance_at_end_fraction: still as f64 / n,
+        wall_s,
+        per_trial: trials,
+        warnings,
+    })
 }
 
 /// Runs one trial per episode of `episodes` (cycling until `trials`).
@@ -134,3 +267,66 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
     })
 }
 
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options(dir: &std::path::Path) -> LocalizeOptions {
+        let world = setup::load_world("procedural:1", &SceneOptions::default()).unwrap();
+        let ds = setup::generate(&world, "procedural:1", "auto", 2, 1, "procedural:1").unwrap();
+        std::fs::create_dir_all(dir).unwrap();
+        let episodes = dir.join("eps.json.gz");
+        xhab_sim::episode::write_dataset(&ds, &episodes).unwrap();
+        LocalizeOptions {
+            scene: "procedural:1".into(),
+            scene_options: SceneOptions::default(),
+            episodes,
+            trials: 3,
+            config: GlobalLocConfig { max_travel: 2.0, ..Default::default() },
+            map: None,
+            nav_params: Vec::new(),
+            particles: 500,
+            physics: PhysicsOptions { robot: "turtlebot3_burger".into(), ..Default::default() },
+        }
+    }
+
+    #[test]
+    fn trials_run_and_the_report_counts_them() {
+        let dir = std::env::temp_dir().join(format!("xhab-localize-{}", std::process::id()));
+        let o = options(&dir);
+        let r = run_localize(&o).unwrap();
+        assert_eq!((r.scene.as_str(), r.trials, r.per_trial.len()), ("procedural:1", 3, 3));
+        assert_eq!((r.particles, r.amcl.max_particles), (500, 500));
+        assert_eq!((r.tolerance_m, r.max_travel_m), (0.2, 2.0));
+        assert!((r.converged_fraction - r.converged() as f64 / 3.0).abs() < 1e-12);
+        assert!((r.within_tolerance_at_end_fraction - r.within_tolerance_at_end() as f64 / 3.0).abs() < 1e-12);
+        for t in &r.per_trial {
+            assert!(t.travel_m >= 0.0 && t.final_error_m >= 0.0, "{t:?}");
+            assert_eq!(t.converged, t.travel_at_convergence_m.is_some());
+        }
+        assert!(r.wall_s > 0.0 && r.warnings.is_empty());
+        let json = serde_json::to_value(&r).unwrap();
+        let keys: Vec<&String> = json.as_object().unwrap().keys().collect();
+        assert_eq!(
+            keys,
+            ["amcl", "converged_fraction", "max_travel_m", "mean_travel_at_convergence_m", "particles", "per_trial", "scene", "tolerance_m", "trials", "wall_s", "within_tolerance_at_end_fraction"]
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn bad_options_are_errors_naming_the_flag_or_file() {
+        let dir = std::env::temp_dir().join(format!("xhab-localize-bad-{}", std::process::id()));
+        let o = options(&dir);
+        let e = |o: LocalizeOptions| run_localize(&o).expect_err("should fail").to_string();
+        assert_eq!(e(LocalizeOptions { particles: 0, ..o.clone() }), "--particles must be at least 1");
+        assert!(e(LocalizeOptions { physics: PhysicsOptions { robot: "no_such_robot".into(), ..Default::default() }, ..o.clone() }).starts_with("--robot no_such_robot"));
+        assert!(e(LocalizeOptions { episodes: dir.join("none.json.gz"), ..o.clone() }).contains("none.json.gz"));
+        assert!(e(LocalizeOptions { map: Some(dir.join("none.yaml")), ..o.clone() }).starts_with("loading map"));
+        let y = dir.join("nav.yaml");
+        std::fs::write(&y, "amcl:\n  min_particles: many\n").unwrap();
+        let files = vec![y.to_str().unwrap().parse().unwrap()];
+        assert!(e(LocalizeOptions { nav_params: files, ..o.clone() }).contains("nav.yaml"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -5,18 +5,24 @@
 //! sequential or parallel with identical results; [`setup`]: environments built from the
 //! options the CLI and the Python package share; [`report`]: the benchmark report;
 //! [`gym`]: a Gymnasium-style PointNav environment (reset, step, reward), single or batched.
+//! One entry point per command the CLI runs: [`scene_perf::measure_scene`] (`perf`),
+//! [`navigate::navigate_once`], [`demo::run_demo`], [`global_localization::run_localize`]
+//! (`localize`), and the ROS nodes' builders in [`ros`].
 #![warn(missing_docs)]
 
 pub mod agents;
 pub mod benchmark;
+pub mod demo;
 pub mod explore;
 pub mod global_localization;
 pub mod gym;
 pub mod map_picture;
 pub mod nav_agent;
 pub mod nav_perf;
+pub mod navigate;
 pub mod report;
 pub mod runner;
 pub mod scan_source;
+pub mod scene_perf;
 pub mod setup;
 pub mod ros;

@@ -1,7 +1,11 @@
 //! Pictures: top-down maps with trajectories, as PNG.
 
+use crate::runner::Outcome;
 use image::{Rgb, RgbImage};
 use std::path::{Path, PathBuf};
+use xhab_sim::episode::Dataset;
+use xhab_sim::navgrid::NavGridError;
+use xhab_sim::world::World;
 use xhab_types::{OccupancyGrid, Point2, GRID_FREE, GRID_UNKNOWN};
 
 /// A picture that could not be written.
@@ -115,5 +119,84 @@ impl<'a> MapPicture<'a> {
     /// The picture's pixels (RGB, rows top to bottom).
     pub fn image(&self) -> &RgbImage {
         &self.img
+    }
+}
+
+/// Why the trajectory pictures could not be drawn.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrajectoriesError {
+    /// The folder could not be created.
+    #[error("creating {}", path.display())]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The grid of an episode's floor could not be built.
+    #[error(transparent)]
+    Grid(#[from] NavGridError),
+    /// A picture could not be written.
+    #[error(transparent)]
+    Picture(#[from] PictureError),
+}
+
+/// Draws each episode's trajectory (recorded in `outcomes`, one per episode of `ds`) over its
+/// floor's map into `dir/EPISODE_ID.png`, with the shortest path as the metrics measure it,
+/// the start and the goals; episodes without a trajectory are passed over.
+pub fn draw_trajectories(world: &World, ds: &Dataset, outcomes: &[Outcome], dir: &Path) -> Result<(), TrajectoriesError> {
+    std::fs::create_dir_all(dir).map_err(|source| TrajectoriesError::Folder { path: dir.to_path_buf(), source })?;
+    for (ep, o) in ds.episodes.iter().zip(outcomes) {
+        let Outcome::Ran(r) = o else { continue };
+        let Some(traj) = &r.trajectory else { continue };
+        let grid = world.grid_at(ep.start_position.z)?;
+        let map = grid.occupancy_grid();
+        let mut pic = MapPicture::new(&map);
+        let goals: Vec<Point2> = ep.goals.iter().map(|g| g.position.xy()).collect();
+        // The shortest path as the metrics measure it (the episode's goal field, cached).
+        pic.polyline(&grid.field(&goals).path(&grid, ep.start_position.xy()), [60, 160, 255]);
+        let pts: Vec<Point2> = traj.iter().map(|p| p.position()).collect();
+        pic.polyline(&pts, [230, 120, 0]);
+        pic.dot(ep.start_position.xy(), 4, [0, 170, 0]);
+        for g in &goals {
+            pic.dot(*g, 4, [220, 0, 0]);
+        }
+        let name: String = r.episode_id.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+        pic.save(&dir.join(format!("{name}.png")))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::agents::AgentKind;
+    use crate::runner::{run_dataset, RunConfig};
+    use xhab_sim::env::TaskConfig;
+
+    #[test]
+    fn one_picture_per_recorded_trajectory() {
+        let world = crate::setup::load_world("procedural:3", &Default::default()).unwrap();
+        let ds = crate::setup::generate(&world, "procedural:3", "auto", 3, 1, "procedural:3").unwrap();
+        let mut cfg = RunConfig { agent: AgentKind::Oracle, task: TaskConfig::default(), threads: 1, record_trajectories: true, physics: None, seed: 0, nav: None, sensors: None, episode_indices: None };
+        let dir = std::env::temp_dir().join(format!("xhab-trajectories-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let outcomes = run_dataset(&world, &ds, &cfg, &|| {});
+        draw_trajectories(&world, &ds, &outcomes, &dir).unwrap();
+        for ep in &ds.episodes {
+            let img = image::open(dir.join(format!("{}.png", ep.episode_id))).unwrap();
+            assert!(img.width() > 1 && img.height() > 1);
+        }
+        // Without recorded trajectories: nothing drawn.
+        cfg.record_trajectories = false;
+        let empty = dir.join("none");
+        draw_trajectories(&world, &ds, &run_dataset(&world, &ds, &cfg, &|| {}), &empty).unwrap();
+        assert_eq!(std::fs::read_dir(&empty).unwrap().count(), 0);
+        // A folder that cannot be made is named.
+        let e = draw_trajectories(&world, &ds, &outcomes, &dir.join(format!("{}.png", ds.episodes[0].episode_id)).join("x")).unwrap_err();
+        assert!(e.to_string().starts_with("creating "), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -11,7 +11,6 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 use xhab_sim::env::TaskConfig;
-use xhab_sim::sensors::RayScene;
 use xhab_sim::world::World;
 
 /// Episodes in the fixed set.
@@ -46,9 +45,6 @@ pub enum NavPerfError {
     /// The default navigation parameters did not load.
     #[error(transparent)]
     Params(#[from] xhab_nav::ros_params::ParamError),
-    /// The scene has nothing for the lidar to see.
-    #[error("the scene has no triangles to scan")]
-    NoTriangles,
 }
 
 /// Times the nav agent (default parameters sized to `robot`, a built-in profile name or
@@ -57,11 +53,10 @@ pub enum NavPerfError {
 pub fn nav_perf(world: &World, scene_id: &str, robot: &str) -> Result<NavPerf, NavPerfError> {
     let ds = generate(world, scene_id, "auto", NAV_PERF_EPISODES, NAV_PERF_SEED, scene_id)?;
     let physics = physics_setup(world, &PhysicsOptions { robot: robot.to_string(), ..Default::default() })?;
-    let mut loaded = xhab_nav::ros_params::load_nav_params(&[])?;
-    loaded.size_to_robot(physics.profile.radius, physics.profile.footprint.as_deref());
-    let rays = RayScene::new(&world.scene).ok_or(NavPerfError::NoTriangles)?;
+    let (params, _no_files_no_warnings) = crate::benchmark::nav_params(&[], Some(&physics.profile))?;
+    let rays = crate::setup::ray_scene(&world.scene)?;
     let scan = ScanSource::lidar(Arc::new(rays), physics.profile.laser.lidar());
-    let nav = NavSetup { params: loaded.params, map: None, localization: Localization::Amcl, scan: Some(scan), scan_period: 0.1 };
+    let nav = NavSetup { params, map: None, localization: Localization::Amcl, scan: Some(scan), scan_period: 0.1 };
     let cfg = RunConfig { agent: AgentKind::Nav, task: TaskConfig::default(), threads: 1, record_trajectories: false, physics: Some(physics), seed: 0, nav: Some(nav), sensors: None, episode_indices: None };
     let t = Instant::now();
     let outcomes = run_dataset(world, &ds, &cfg, &|| {});

@@ -16,7 +16,7 @@ use xhab_sim::navgrid::{AgentParams, NavGrid, NavGridError};
 use xhab_sim::physics_env::PhysicsConfig;
 use xhab_sim::robot::{PhysicsError, PhysicsScene, ProfileError, RobotProfile};
 use xhab_sim::scene::{self, LoadOptions, Scene, SceneError, UpAxis};
-use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RenderError, Renderer, RendererKind};
+use xhab_sim::sensors::{CameraParams, CameraRig, DepthNoise, RayScene, RenderError, Renderer, RendererKind};
 use xhab_sim::world::World;
 use xhab_types::{OccupancyGrid, Point3};
 
@@ -115,6 +115,21 @@ pub enum SetupError {
     /// The wgpu renderer asked for explicitly could not be built.
     #[error("--renderer wgpu: {0}")]
     Wgpu(RenderError),
+    /// A map_server map could not be loaded.
+    #[error("loading map {}", path.display())]
+    Map {
+        /// The YAML file.
+        path: std::path::PathBuf,
+        /// Why.
+        #[source]
+        source: xhab_nav::map_server::MapError,
+    },
+    /// The floor has no navigable point to start from.
+    #[error("no navigable point in the scene")]
+    NoNavigablePoint,
+    /// The scene has no triangles for a lidar to hit.
+    #[error("the scene has no triangles to scan")]
+    NothingToScan,
 }
 
 /// How to read a scene and which agent its grids are built for (the CLI's `Scene` and
@@ -219,6 +234,16 @@ pub fn floor_map(world: &World, grid: &NavGrid, laser_height: Option<f64>) -> Re
     })
 }
 
+/// Loads a map_server map (its YAML file and the image it names).
+pub fn load_static_map(path: &Path) -> Result<OccupancyGrid, SetupError> {
+    xhab_nav::map_server::load_map(path).map(|(map, _)| map).map_err(|source| SetupError::Map { path: path.to_path_buf(), source })
+}
+
+/// The scene's triangles for ray casting (lidar scans); fails on a scene without any.
+pub fn ray_scene(scene: &Scene) -> Result<RayScene, SetupError> {
+    RayScene::new(scene).ok_or(SetupError::NothingToScan)
+}
+
 /// A map that could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum WriteMapError {
@@ -314,6 +339,18 @@ impl Default for PhysicsOptions {
     }
 }
 
+impl PhysicsOptions {
+    /// The physics settings of these options: the control period and the physics rate, the
+    /// rest (gravity, odometry noise, stuck detection) at their defaults.
+    pub fn config(&self) -> PhysicsConfig {
+        PhysicsConfig {
+            control_period: self.control_period,
+            physics: xhab_sim::robot::PhysicsParams { steps_per_sec: self.steps_per_sec, ..Default::default() },
+            ..Default::default()
+        }
+    }
+}
+
 /// The physics setup: the robot, the scene's rigid mesh (shared by every episode) and the
 /// settings.
 pub fn physics_setup(world: &World, o: &PhysicsOptions) -> Result<PhysicsSetup, SetupError> {
@@ -321,12 +358,7 @@ pub fn physics_setup(world: &World, o: &PhysicsOptions) -> Result<PhysicsSetup, 
     let t = Instant::now();
     let scene = PhysicsScene::new(&world.scene).map_err(SetupError::Physics)?;
     tracing::info!("physics mesh built in {:.3} s", t.elapsed().as_secs_f64());
-    let config = PhysicsConfig {
-        control_period: o.control_period,
-        physics: xhab_sim::robot::PhysicsParams { steps_per_sec: o.steps_per_sec, ..Default::default() },
-        ..Default::default()
-    };
-    Ok(PhysicsSetup { scene: Arc::new(scene), profile, config })
+    Ok(PhysicsSetup { scene: Arc::new(scene), profile, config: o.config() })
 }
 
 /// The camera's options (the CLI's `Camera` options).

@@ -4,7 +4,6 @@
 use crate::cli::{SceneOpts, UpAxisArg};
 use anyhow::{bail, Result};
 use xhab_bridge::setup::{self, SceneOptions};
-use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{Scene, UpAxis};
 use xhab_sim::world::World;
 
@@ -25,11 +24,6 @@ pub fn scene_options(opts: &SceneOpts) -> SceneOptions {
 /// Loads the scene named by `arg`.
 pub fn load_scene(arg: &str, opts: &SceneOpts) -> Result<Scene> {
     Ok(setup::load_scene(arg, &scene_options(opts))?)
-}
-
-/// The agent parameters of the scene options.
-pub fn agent_params(opts: &SceneOpts) -> AgentParams {
-    setup::agent_params(&scene_options(opts))
 }
 
 /// Loads the scene and wraps it in a world.

@@ -9,10 +9,49 @@ use super::names::Names;
 use super::node::{self, RosError, RosNode, StampInbox};
 use super::sim_node::{EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPIC};
 use crate::agents::AgentKind;
+use crate::setup::{self, SceneOptions, SetupError};
 use std::sync::Arc;
 use std::time::Duration;
 use xhab_sim::env::{EnvSnapshot, EnvView, TaskConfig};
 use xhab_sim::world::World;
+
+/// What `xhab ros agent` runs, as its flags give it: the oracle on a scene.
+#[derive(Debug, Clone)]
+pub struct AgentNodeOptions {
+    /// The SCENE argument (the oracle's privileged knowledge: its grid and geodesics).
+    pub scene: String,
+    /// How to read it and the agent's size.
+    pub scene_options: SceneOptions,
+    /// Master URI; `None` starts one.
+    pub master: Option<String>,
+    /// The node's name, namespace and remappings.
+    pub names: Names,
+    /// How long to wait for a peer.
+    pub timeout: Duration,
+}
+
+/// Why the agent node stopped with an error.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AgentNodeError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The node failed.
+    #[error(transparent)]
+    Ros(#[from] RosError),
+}
+
+/// Loads the scene and runs the oracle as a free-running agent node in the foreground until
+/// Ctrl-C (`xhab ros agent`).
+pub fn serve(o: &AgentNodeOptions) -> Result<(), AgentNodeError> {
+    let world = Arc::new(setup::load_world(&o.scene, &o.scene_options)?);
+    let master = super::master::Master::connect_or_start(o.master.as_deref()).map_err(RosError::from)?;
+    eprintln!("xhab: ROS master {}", master.uri);
+    let (_keep, shutdown) = tokio::sync::watch::channel(false);
+    let node = run(&master.uri, o.names.clone(), world, AgentKind::Oracle, TaskConfig::default(), o.timeout, false, shutdown);
+    Ok(super::foreground::run_until_ctrl_c(node)?)
+}
 
 /// Waits for the announcement of episode `index` on `episodes` (older ones are skipped).
 pub(crate) async fn episode_announcement(episodes: &mut tokio::sync::mpsc::UnboundedReceiver<xhab_msgs::Episode>, index: u32, timeout: Duration) -> Result<xhab_msgs::Episode, RosError> {
@@ -114,5 +153,24 @@ async fn run_lockstep(node: RosNode, world: Arc<World>, kind: AgentKind, task: T
         let r = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind: xhab_msgs::StepReply::ACTION, action: a as i16, ..Default::default() };
         reply.publish(&r).await.map_err(|e| pub_err(e.to_string()))?;
         last = Some(r);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_that_does_not_load_fails_before_any_master_is_used() {
+        let o = AgentNodeOptions {
+            scene: "/nonexistent/house.glb".into(),
+            scene_options: SceneOptions::default(),
+            // Nothing listens there: reaching it would be a different error.
+            master: Some("http://127.0.0.1:9/".into()),
+            names: Names::from_args("xhab_agent", &[], None).unwrap(),
+            timeout: Duration::from_secs(1),
+        };
+        let e = serve(&o).unwrap_err();
+        assert!(matches!(e, AgentNodeError::Setup(_)) && e.to_string().starts_with("loading scene /nonexistent/house.glb"), "{e}");
     }
 }

@@ -7,6 +7,9 @@ use super::node::RosError;
 use super::names::Names;
 use super::sim_node::{Command, Mounts, RobotState, SimNode};
 use crate::runner::PhysicsSetup;
+use crate::setup::{self, CameraOptions, EnvOptions, EnvSetup, PhysicsOptions, SceneOptions, SetupError};
+use rand::SeedableRng;
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_sim::action::Action;
@@ -65,6 +68,139 @@ pub struct LiveOptions {
     pub timeout: Duration,
 }
 
+/// What `xhab ros sim` simulates, as its flags give it.
+#[derive(Debug, Clone)]
+pub struct SimSpec {
+    /// The SCENE argument: a file or `procedural[:SEED]`.
+    pub scene: String,
+    /// How to read it; under physics the grid is built for the robot's radius unless one is given.
+    pub scene_options: SceneOptions,
+    /// Physics (velocity commands on `cmd_vel`) with this robot; `None`: discrete actions.
+    pub physics: Option<PhysicsOptions>,
+    /// The map to publish on `map` (map_server YAML); `None`: the scene's own map.
+    pub map: Option<PathBuf>,
+    /// The map to publish on `amcl/map` (map_server YAML); `None`: the scene cut at the
+    /// lidar's height without `map`, nothing with it.
+    pub amcl_map: Option<PathBuf>,
+    /// Start pose (world frame: m, m, rad) on the lowest floor; `None`: a random navigable
+    /// point from `seed`.
+    pub start: Option<Pose2>,
+    /// Publish the depth camera.
+    pub publish_camera: bool,
+    /// Also publish RGB images (with the camera).
+    pub rgb: bool,
+    /// The camera (its height defaults to the robot's under physics, else 1.25 m).
+    pub camera: CameraOptions,
+    /// Depth noise at 1 m (m, growing with depth squared; 0 = off).
+    pub depth_noise: f64,
+    /// Probability that a depth pixel on an edge reads no return (0 = off).
+    pub edge_dropout: f64,
+    /// Simulated seconds per wall second (0: as fast as possible).
+    pub rate: f64,
+    /// Period of the state loop (s).
+    pub period: f64,
+    /// Stop after this much simulated time (s), if given.
+    pub duration: Option<f64>,
+    /// Seed of the start pose and the noise.
+    pub seed: u64,
+    /// Publish map -> odom from ground truth (as fake_localization).
+    pub map_odom_ground_truth: bool,
+    /// Master URI; `None` starts one.
+    pub master: Option<String>,
+    /// The node's name, namespace and remappings.
+    pub names: Names,
+    /// Lock-step: each cycle waits for one command.
+    pub lockstep: bool,
+    /// How long lock-step waits for a command.
+    pub timeout: Duration,
+}
+
+/// The simulator `xhab ros sim` runs: the floor's grid and the node's options, ready for
+/// [`run_live`].
+#[derive(Debug, Clone)]
+pub struct LiveSim {
+    /// The grid of the lowest floor.
+    pub grid: Arc<NavGrid>,
+    /// The node's options.
+    pub options: LiveOptions,
+    /// Which renderer the camera uses and why (with the camera), for a log line.
+    pub renderer_note: Option<String>,
+}
+
+impl LiveSim {
+    /// Loads the scene and builds the robot, its physics, sensors, maps and start pose as
+    /// `spec` asks (the environment through [`EnvSetup::build`], as `xhab bench` does).
+    pub fn build(spec: &SimSpec) -> Result<LiveSim, SetupError> {
+        let mut env = EnvOptions::new(spec.scene.clone());
+        env.scene_options = spec.scene_options.clone();
+        env.physics = spec.physics.clone();
+        env.sensors = match (spec.publish_camera, spec.rgb) {
+            (false, _) => Vec::new(),
+            (true, false) => vec!["depth".into()],
+            (true, true) => vec!["depth".into(), "rgb".into()],
+        };
+        env.camera = spec.camera.clone();
+        env.depth_noise = spec.depth_noise;
+        env.edge_dropout = spec.edge_dropout;
+        let setup = EnvSetup::build(&env)?;
+        let world = &setup.world;
+        let grid = world.grid(setup::floor_index(world, "auto")?)?;
+        let (start, start_z) = match spec.start {
+            Some(p) => (p, grid.floor_z),
+            None => {
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
+                let p = grid.sample_navigable_point(&[], &mut rng).ok_or(SetupError::NoNavigablePoint)?;
+                (Pose2::new(p.x, p.y, 0.0), p.z)
+            }
+        };
+        let physics = setup.physics.clone();
+        let camera_z = physics.as_ref().map_or(CameraParams::default().mount_height, |p| p.profile.camera_height);
+        // The camera's options are checked even when it is off.
+        setup::camera_params(&spec.camera, camera_z)?;
+        let rays = Arc::new(setup::ray_scene(&world.scene)?);
+        let map = match &spec.map {
+            Some(m) => setup::load_static_map(m)?,
+            None => grid.occupancy_grid(),
+        };
+        let lidar = physics.as_ref().map_or_else(LidarParams::default, |p| p.profile.laser.lidar());
+        let mounts = Mounts {
+            laser_frame: physics.as_ref().map_or_else(|| "laser".into(), |p| p.profile.laser.frame.clone()),
+            laser: Pose2::new(lidar.mount_xy[0], lidar.mount_xy[1], 0.0),
+            laser_z: lidar.mount_height,
+            camera_z,
+        };
+        let amcl_map = match (&spec.amcl_map, &spec.map) {
+            (Some(m), _) => Some(setup::load_static_map(m)?),
+            (None, None) => Some(grid.slice_map(&world.scene, lidar.mount_height, crate::nav_agent::SCAN_PLANE_HALF_BAND)),
+            (None, Some(_)) => None,
+        };
+        let options = LiveOptions {
+            master: spec.master.clone(),
+            names: spec.names.clone(),
+            mounts,
+            map_odom_ground_truth: spec.map_odom_ground_truth,
+            physics,
+            start,
+            start_z,
+            map: Some(map),
+            amcl_map,
+            lidar: Some((rays, lidar)),
+            scan_period: 0.1,
+            camera: setup.sensors.as_ref().map(|rig| (rig.renderer.clone(), rig.params.clone(), rig.rgb)),
+            camera_period: 0.2,
+            depth_noise: setup::depth_noise(spec.depth_noise, spec.edge_dropout)?,
+            period: spec.period,
+            rate: spec.rate,
+            lockstep: spec.lockstep,
+            duration: spec.duration,
+            cmd_vel_timeout: 0.5,
+            seed: spec.seed,
+            timeout: spec.timeout,
+        };
+        Ok(LiveSim { grid, options, renderer_note: setup.renderer_note })
+    }
+}
+
 /// A roaming "episode" for the live simulator: the start, with itself as the goal.
 fn roaming(start: Pose2, z: f64) -> Episode {
     Episode {
@@ -82,13 +218,7 @@ fn roaming(start: Pose2, z: f64) -> Episode {
 pub fn run_live(grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
     let master = Master::connect_or_start(o.master.as_deref())?;
     eprintln!("xhab: ROS master {}{}", master.uri, if master.owned() { " (started for this run)" } else { "" });
-    let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build().map_err(|e| RosError::Node(format!("tokio runtime: {e}")))?;
-    rt.block_on(async {
-        tokio::select! {
-            r = live(&master.uri, grid, o) => r,
-            _ = tokio::signal::ctrl_c() => Ok(()),
-        }
-    })
+    super::foreground::run_until_ctrl_c(live(&master.uri, grid, o))
 }
 
 async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
@@ -201,5 +331,70 @@ async fn pace(t0: Instant, sim_s: f64, rate: f64) {
         if due > now {
             tokio::time::sleep(due - now).await;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use xhab_sim::sensors::RendererKind;
+
+    fn spec() -> SimSpec {
+        SimSpec {
+            scene: "procedural:3".into(),
+            scene_options: SceneOptions::default(),
+            physics: None,
+            map: None,
+            amcl_map: None,
+            start: None,
+            publish_camera: false,
+            rgb: false,
+            camera: CameraOptions { renderer: Some(RendererKind::Raster), resolution: 16, ..Default::default() },
+            depth_noise: 0.0,
+            edge_dropout: 0.0,
+            rate: 1.0,
+            period: 0.05,
+            duration: None,
+            seed: 0,
+            map_odom_ground_truth: false,
+            master: None,
+            names: Names::from_args("xhab_sim", &[], None).unwrap(),
+            lockstep: false,
+            timeout: Duration::from_secs(1),
+        }
+    }
+
+    #[test]
+    fn the_simulator_is_built_from_its_spec() {
+        let sim = LiveSim::build(&spec()).unwrap();
+        let o = &sim.options;
+        assert!(sim.grid.is_navigable(o.start.position()), "a random start is navigable");
+        assert_eq!(o.start_z, sim.grid.floor_z);
+        assert!(o.physics.is_none() && o.camera.is_none() && sim.renderer_note.is_none());
+        assert!(o.map.is_some() && o.amcl_map.is_some() && o.lidar.is_some());
+        assert_eq!(o.mounts.laser_frame, "laser");
+        // Under physics, with the camera: the robot's mounts, its radius, the camera at its height.
+        let robot = PhysicsOptions { robot: "turtlebot3_burger".into(), ..Default::default() };
+        let given = Pose2::new(1.0, 2.0, 0.5);
+        let sim = LiveSim::build(&SimSpec { physics: Some(robot), publish_camera: true, rgb: true, start: Some(given), ..spec() }).unwrap();
+        let o = &sim.options;
+        let ph = o.physics.as_ref().expect("physics");
+        assert_eq!(ph.profile.name, "turtlebot3_burger");
+        assert!((sim.grid.params.radius - ph.profile.radius).abs() < 1e-12);
+        assert_eq!(o.mounts.laser_frame, ph.profile.laser.frame);
+        let (_, cam, rgb) = o.camera.as_ref().expect("camera");
+        assert!(*rgb && cam.width == 16 && (cam.mount_height - ph.profile.camera_height).abs() < 1e-12);
+        assert!(sim.renderer_note.as_deref().is_some_and(|n| n.starts_with("raster")));
+        assert_eq!(o.start, given);
+    }
+
+    #[test]
+    fn bad_options_are_errors_naming_the_flag_or_file() {
+        let e = |s: SimSpec| LiveSim::build(&s).expect_err("should fail").to_string();
+        assert_eq!(e(SimSpec { depth_noise: -1.0, ..spec() }), "--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
+        // The camera's options are checked even with the camera off.
+        assert!(e(SimSpec { camera: CameraOptions { resolution: 0, ..Default::default() }, ..spec() }).contains("--resolution"));
+        assert!(e(SimSpec { map: Some("/nonexistent/map.yaml".into()), ..spec() }).starts_with("loading map /nonexistent/map.yaml"));
+        assert!(e(SimSpec { physics: Some(PhysicsOptions { robot: "no_such_robot".into(), ..Default::default() }), ..spec() }).starts_with("--robot no_such_robot"));
     }
 }

@@ -2,6 +2,7 @@
 //! discrete agents as ROS nodes, with a lock-step mode whose results equal in-process runs.
 
 pub mod convert;
+pub mod foreground;
 pub mod master;
 pub mod msgs;
 pub mod names;

@@ -18,8 +18,12 @@ use super::names::Names;
 use super::node::{RosError, RosNode, StampInbox};
 use super::sim_node::{AMCL_MAP_TOPIC, EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPIC};
 use super::tf_buffer::TfBuffer;
+use super::master::Master;
+use crate::benchmark::{nav_params, ParamError, ParamFile};
 use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, NavSetup};
+use crate::setup::{self, SetupError};
 use roslibrust::ros1::Publisher;
+use std::path::PathBuf;
 use std::time::Duration;
 use tokio::sync::{mpsc, watch};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
@@ -35,6 +39,78 @@ pub struct NavNodeOptions {
     pub seed: u64,
     /// How long to wait for a peer (s).
     pub timeout: Duration,
+}
+
+/// What `xhab ros nav` runs, as its flags give it.
+#[derive(Debug, Clone)]
+pub struct NavNodeSpec {
+    /// The static map (map_server YAML); `None`: the map received on `map`.
+    pub map: Option<PathBuf>,
+    /// The map AMCL localises on (map_server YAML); `None`: the one received on `amcl/map`,
+    /// else the navigation map.
+    pub amcl_map: Option<PathBuf>,
+    /// Localisation.
+    pub localization: Localization,
+    /// ROS parameter files, layered in order (`FILE[@NAMESPACE]`).
+    pub nav_params: Vec<ParamFile>,
+    /// Robot profile (built-in name or YAML file) whose size the costmaps take where the
+    /// files give no footprint or robot_radius.
+    pub robot: String,
+    /// Seed of AMCL.
+    pub seed: u64,
+    /// Lock-step with xhab's simulator.
+    pub lockstep: bool,
+    /// How long to wait for a peer.
+    pub timeout: Duration,
+}
+
+/// The nav node ready to run: its options, the static maps, and the warnings of its
+/// parameter files.
+#[derive(Debug, Clone)]
+pub struct NavNodeSetup {
+    /// The node's options (parameters sized to the robot).
+    pub options: NavNodeOptions,
+    /// The static map, if given.
+    pub map: Option<OccupancyGrid>,
+    /// The static localisation map, if given.
+    pub amcl_map: Option<OccupancyGrid>,
+    /// Warnings for the user (unknown nav parameters), in order.
+    pub warnings: Vec<String>,
+}
+
+/// Why the nav node could not be set up. Messages name the flag or file.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum NavNodeSetupError {
+    /// The robot or a map could not be loaded.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The nav parameter files could not be loaded.
+    #[error(transparent)]
+    NavParams(#[from] ParamError),
+}
+
+impl NavNodeSetup {
+    /// Loads the robot, the parameters (their costmaps sized to the robot, as `xhab bench
+    /// --agent nav` does) and the maps `spec` names.
+    pub fn build(spec: &NavNodeSpec) -> Result<NavNodeSetup, NavNodeSetupError> {
+        let robot = setup::robot_profile(&spec.robot)?;
+        let (params, warnings) = nav_params(&spec.nav_params, Some(&robot))?;
+        let map = spec.map.as_deref().map(setup::load_static_map).transpose()?;
+        let amcl_map = spec.amcl_map.as_deref().map(setup::load_static_map).transpose()?;
+        let setup = NavSetup { params, map: None, localization: spec.localization, scan: None, scan_period: 0.1 };
+        let options = NavNodeOptions { setup, lockstep: spec.lockstep, seed: spec.seed, timeout: spec.timeout };
+        Ok(NavNodeSetup { options, map, amcl_map, warnings })
+    }
+}
+
+/// Runs the node `node` as `names` in the foreground, with the master at `master` (`None`:
+/// one started for it), until Ctrl-C.
+pub fn serve(master: Option<&str>, names: Names, node: NavNodeSetup) -> Result<(), RosError> {
+    let master = Master::connect_or_start(master)?;
+    eprintln!("xhab: ROS master {}", master.uri);
+    let (_keep, shutdown) = watch::channel(false);
+    super::foreground::run_until_ctrl_c(run(&master.uri, names, node.options, node.map, node.amcl_map, shutdown, None))
 }
 
 /// The robot's frame (REP-105).
@@ -450,4 +526,36 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
         server.publish_status(now).await?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> NavNodeSpec {
+        NavNodeSpec { map: None, amcl_map: None, localization: Localization::Amcl, nav_params: Vec::new(), robot: "turtlebot3_burger".into(), seed: 3, lockstep: false, timeout: Duration::from_secs(1) }
+    }
+
+    #[test]
+    fn the_costmaps_take_the_robots_size_and_files_warn_or_fail() {
+        let node = NavNodeSetup::build(&spec()).unwrap();
+        let robot = setup::robot_profile("turtlebot3_burger").unwrap();
+        let (sized, _) = nav_params(&[], Some(&robot)).unwrap();
+        assert_eq!(node.options.setup.params, sized);
+        assert_eq!((node.options.seed, node.options.setup.localization), (3, Localization::Amcl));
+        assert!(node.map.is_none() && node.amcl_map.is_none() && node.warnings.is_empty());
+        let dir = std::env::temp_dir().join(format!("xhab-nav-node-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let y = dir.join("nav.yaml");
+        std::fs::write(&y, "DWAPlannerROS:\n  no_such_key: 1\n").unwrap();
+        let node = NavNodeSetup::build(&NavNodeSpec { nav_params: vec![y.to_str().unwrap().parse().unwrap()], ..spec() }).unwrap();
+        assert!(node.warnings.iter().any(|w| w.contains("no_such_key")), "{:?}", node.warnings);
+        std::fs::write(&y, "DWAPlannerROS:\n  sim_granularity: 0\n").unwrap();
+        let e = NavNodeSetup::build(&NavNodeSpec { nav_params: vec![y.to_str().unwrap().parse().unwrap()], ..spec() }).unwrap_err().to_string();
+        assert!(e.contains("nav.yaml: DWAPlannerROS/sim_granularity"), "{e}");
+        let e = NavNodeSetup::build(&NavNodeSpec { amcl_map: Some(dir.join("none.yaml")), ..spec() }).unwrap_err().to_string();
+        assert!(e.starts_with("loading map"), "{e}");
+        assert!(NavNodeSetup::build(&NavNodeSpec { robot: "no_such_robot".into(), ..spec() }).unwrap_err().to_string().starts_with("--robot no_such_robot"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -2,25 +2,20 @@
 //! Parses the flags into the library's [`BenchOptions`], calls [`run_bench`], prints.
 
 use crate::cli::{AgentArg, BenchArgs, GoalInterfaceArg, LocalizationArg, MapOdomArg, PaceArg, PhysicsOpts, ScanSourceArg};
-use xhab_bridge::map_picture::MapPicture;
 use crate::scene_arg::scene_options;
 use anyhow::{Context, Result};
-use std::path::Path;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
-use std::sync::Arc;
+use std::time::Duration;
 use xhab_bridge::agents::AgentKind;
 use xhab_bridge::benchmark::{run_bench, BenchOptions, BenchRun, ExternalSpec, NavOptions, ScanKind, Transport as BenchTransport};
+use xhab_bridge::map_picture::draw_trajectories;
 use xhab_bridge::nav_agent::Localization;
 use xhab_bridge::report::{episodes_csv, BenchReport};
 use xhab_bridge::ros::external::MapOdom;
 use xhab_bridge::ros::move_base_client::GoalInterface;
-use xhab_bridge::runner::{run_dataset, Aggregate, Outcome, PhysicsSetup, RunConfig};
+use xhab_bridge::runner::Aggregate;
 use xhab_bridge::setup::{EnvOptions, PhysicsOptions};
 use xhab_sim::env::TaskConfig;
-use xhab_sim::episode::Dataset;
-use xhab_sim::world::World;
-use xhab_types::Point2;
 
 pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let o = bench_options(a)?;
@@ -152,24 +147,6 @@ fn finish(a: &BenchArgs, run: &BenchRun) -> Result<()> {
     Ok(())
 }
 
-/// The physics setup of `--physics` (None without it): the scene's rigid mesh, the robot.
-pub fn physics_setup(world: &World, o: &PhysicsOpts) -> Result<Option<PhysicsSetup>> {
-    if !o.physics {
-        return Ok(None);
-    }
-    Ok(Some(xhab_bridge::setup::physics_setup(world, &physics_options(o))?))
-}
-
-/// Runs an in-process benchmark on a loaded world and builds its report (for `demo`).
-pub fn bench_loaded(world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, episodes_file: &str, quiet: bool) -> Result<(BenchReport, Vec<Outcome>)> {
-    let pb = super::progress(ds.episodes.len(), quiet, cfg.agent.name());
-    let t0 = Instant::now();
-    let outcomes = run_dataset(world, ds, cfg, &|| pb.inc(1));
-    pb.finish_and_clear();
-    let report = BenchReport::new(&outcomes, t0.elapsed().as_secs_f64(), cfg, cfg.agent.name(), scene, episodes_file, false);
-    Ok((report, outcomes))
-}
-
 /// How an external stack's episodes ended (`--agent ros`): terminal action states and why
 /// each episode stopped (the failures line above counts them by Habitat's causes only).
 fn print_ros_ends(report: &BenchReport) {
@@ -208,28 +185,4 @@ pub fn print_table(a: &Aggregate, invalid: usize, agent: &str) {
     if invalid > 0 {
         println!("({invalid} invalid episodes left out)");
     }
-}
-
-/// Draws each episode's trajectory over the floor's map into `dir/EPISODE_ID.png`.
-pub fn draw_trajectories(world: &World, ds: &Dataset, outcomes: &[Outcome], dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    for (ep, o) in ds.episodes.iter().zip(outcomes) {
-        let Outcome::Ran(r) = o else { continue };
-        let Some(traj) = &r.trajectory else { continue };
-        let grid = world.grid_at(ep.start_position.z)?;
-        let map = grid.occupancy_grid();
-        let mut pic = MapPicture::new(&map);
-        let goals: Vec<Point2> = ep.goals.iter().map(|g| g.position.xy()).collect();
-        // The shortest path as the metrics measure it (the episode's goal field, cached).
-        pic.polyline(&grid.field(&goals).path(&grid, ep.start_position.xy()), [60, 160, 255]);
-        let pts: Vec<Point2> = traj.iter().map(|p| p.position()).collect();
-        pic.polyline(&pts, [230, 120, 0]);
-        pic.dot(ep.start_position.xy(), 4, [0, 170, 0]);
-        for g in &goals {
-            pic.dot(*g, 4, [220, 0, 0]);
-        }
-        let name: String = r.episode_id.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
-        pic.save(&dir.join(format!("{name}.png")))?;
-    }
-    Ok(())
 }

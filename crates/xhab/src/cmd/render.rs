@@ -33,11 +33,16 @@ pub fn camera(o: &CameraOpts, default_height: f64) -> Result<CameraParams> {
 /// the CPU rasteriser otherwise (with a warning when the GPU path failed). A line says which.
 pub fn renderer(o: &CameraOpts, scene: &xhab_sim::scene::Scene) -> Result<Renderer> {
     let (r, why) = setup::build_renderer(camera_options(o).renderer, scene)?;
-    if why.contains("no GPU renderer") {
-        tracing::warn!("renderer: {}{why}", r.name());
-    }
-    eprintln!("xhab: renderer {}{why}", r.name());
+    print_renderer_note(&format!("{}{why}", r.name()));
     Ok(r)
+}
+
+/// Prints which renderer renders and why (`NAME (auto: ...)`), warning when the GPU path failed.
+pub fn print_renderer_note(note: &str) {
+    if note.contains("no GPU renderer") {
+        tracing::warn!("renderer: {note}");
+    }
+    eprintln!("xhab: renderer {note}");
 }
 
 /// A depth colour map: near = yellow, far = dark blue, no return = black.
