@@ -126,6 +126,12 @@ boxed_from!(PlanError => Plan, ResultsError => Results, crate::report::ReportErr
 /// Runs `spec` into `o.out`: its parts (all, or a shard's), skipping those already there;
 /// unsharded, then merges them into `results.json`/`.csv` and the report.
 pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(dyn Fn(Progress<'_>) + Sync)) -> Result<ExperimentRun, ExperimentError> {
+    run_experiment_until(spec, o, &AtomicBool::new(false), progress)
+}
+
+/// [`run_experiment`] that stops with a `Cancelled` bench error once `cancel` is set (e.g. on
+/// Ctrl-C); the parts finished so far stay in the folder, so a rerun resumes after them.
+pub fn run_experiment_until(spec: &ExperimentSpec, o: &ExperimentOptions, cancel: &AtomicBool, progress: &(dyn Fn(Progress<'_>) + Sync)) -> Result<ExperimentRun, ExperimentError> {
     let plan = prepare(spec, &o.out)?;
     let mine = parts(&plan, o.shard);
     progress(Progress::Planned { plan: &plan, parts: mine.len(), episodes: mine.iter().map(|p| p.end - p.first).sum() });
@@ -140,7 +146,7 @@ pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(
         }
         let mut bo = bench_options(spec, run, p.first, p.end).map_err(|message| ExperimentError::Options { run: run.id.clone(), message })?;
         bo.record_trajectories = true;
-        let b = run_bench_until(&bo, &AtomicBool::new(false), &|done, total| progress(Progress::Episode { done, total })).map_err(|source| ExperimentError::Bench { run: run.id.clone(), source: Box::new(source) })?;
+        let b = run_bench_until(&bo, cancel, &|done, total| progress(Progress::Episode { done, total })).map_err(|source| ExperimentError::Bench { run: run.id.clone(), source: Box::new(source) })?;
         for w in &b.warnings {
             progress(Progress::Warning(w));
         }
