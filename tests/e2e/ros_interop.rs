@@ -94,6 +94,43 @@ fn bench_over_ros_equals_the_in_process_run() {
 }
 
 #[test]
+fn a_nav_abort_over_ros_carries_the_navigators_reason() {
+    if !ros_available("a_nav_abort_over_ros_carries_the_navigators_reason") {
+        return;
+    }
+    let dir = tempfile_dir("ros_abort");
+    let eps = dir.join("eps.json.gz");
+    assert!(xhab().args(["episodes", "procedural:5", "--count", "2", "--seed", "3", "--out"]).arg(&eps).status().unwrap().success());
+    // A 1.6 m square footprint: the house has no room for it, so the navigator gives up
+    // (start_blocked or goal_unreachable_for_costmap), for the same reason in-process and over
+    // ROS (ros_check compares the reasons); before, every abort over ROS was `unknown`.
+    let params = dir.join("huge.yaml");
+    let square = "[[-0.8, -0.8], [-0.8, 0.8], [0.8, 0.8], [0.8, -0.8]]";
+    std::fs::write(&params, format!("global_costmap:\n  footprint: {square}\nlocal_costmap:\n  footprint: {square}\n")).unwrap();
+    let out = dir.join("r.json");
+    let st = xhab()
+        .args(["bench", "--scene", "procedural:5", "--episodes"])
+        .arg(&eps)
+        .args(["--agent", "nav", "--compare-ros", "--ros-timeout", "20", "--quiet", "--nav-params"])
+        .arg(&params)
+        .arg("--out")
+        .arg(&out)
+        .env("ROS_IP", "127.0.0.1")
+        .status()
+        .unwrap();
+    assert!(st.success(), "bench --compare-ros with a huge footprint failed");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(v["ros_check"]["identical"], true, "{}", v["ros_check"]);
+    let episodes = v["episodes"].as_array().unwrap();
+    assert!(!episodes.is_empty());
+    for e in episodes {
+        let reason = e["abort_reason"].as_str().unwrap_or_default();
+        assert!(["start_blocked", "goal_unreachable_for_costmap"].contains(&reason), "{e}");
+        assert_eq!(e["aborted"], true, "{e}");
+    }
+}
+
+#[test]
 fn a_missing_master_is_a_clear_error_not_a_hang() {
     let dir = tempfile_dir("ros_nomaster");
     let eps = dir.join("eps.json.gz");

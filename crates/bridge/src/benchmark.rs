@@ -402,7 +402,7 @@ pub fn compare_outcomes(a: &[Outcome], b: &[Outcome]) -> RosCheck {
                 for (p, q) in [(m.success, n.success), (m.spl, n.spl), (m.soft_spl, n.soft_spl), (m.distance_to_goal, n.distance_to_goal), (m.path_length, n.path_length)] {
                     max_diff = max_diff.max((p - q).abs());
                 }
-                if m.steps != n.steps || m.collisions != n.collisions || m.called_stop != n.called_stop {
+                if m.steps != n.steps || m.collisions != n.collisions || m.called_stop != n.called_stop || x.abort_reason != y.abort_reason {
                     other_steps += 1;
                 }
             }

@@ -162,7 +162,7 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     let base_ns = *clock_ns;
     let stamp = |t: f64| (base_ns + (t * 1e9).round() as i64) as f64 / 1e9;
     let mut traj = cfg.record_trajectories.then(|| vec![made.as_dyn().pose()]);
-    let mut aborted = false;
+    let mut aborted: Option<String> = None;
     let mut end_t = 0.0;
     let mut stats = crate::runner::RenderStats::default();
     let ep_index = index as u32;
@@ -207,7 +207,8 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
                     xhab_msgs::StepReply::DRIVE => env.drive(cv::twist2(&r.twist), period),
                     xhab_msgs::StepReply::STOP => env.call_stop(),
                     xhab_msgs::StepReply::ABORT => {
-                        aborted = true;
+                        // The nav node says why; an agent that does not is `unknown`.
+                        aborted = Some(if r.abort_reason.is_empty() { "unknown".to_string() } else { r.abort_reason.clone() });
                         break;
                     }
                     k => return Err(RosError::Protocol(format!("step reply kind {k} from the nav node (DRIVE, STOP or ABORT expected)"))),
@@ -252,7 +253,5 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
         MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
         MadeEnv::Plain(_) => (None, None),
     };
-    // The step reply carries no reason: over ROS an abort is `unknown`.
-    let abort_reason = aborted.then(|| "unknown".to_string());
-    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, abort_reason, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, abort_reason: aborted, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }

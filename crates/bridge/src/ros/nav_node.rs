@@ -23,6 +23,7 @@ use crate::benchmark::{nav_params, ParamError, ParamFile};
 use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, NavSetup};
 use crate::setup::{self, SetupError};
 use roslibrust::ros1::Publisher;
+use xhab_nav::navigator::AbortReason;
 use std::path::PathBuf;
 use std::time::Duration;
 use tokio::sync::{mpsc, watch};
@@ -324,7 +325,11 @@ async fn lockstep(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOp
             NavReply::Abort => (xhab_msgs::StepReply::ABORT, Twist::default()),
         };
         out.drive(tw).await?;
-        let rep = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind, twist: cv::twist(tw), action: 0 };
+        let abort_reason = match r {
+            NavReply::Abort => b.abort_reason().map_or("unknown", AbortReason::as_str).to_string(),
+            _ => String::new(),
+        };
+        let rep = xhab_msgs::StepReply { episode: s.episode, step: s.step, kind, twist: cv::twist(tw), action: 0, abort_reason };
         reply.publish(&rep).await.map_err(|e| perr(STEP_REPLY_TOPIC, e))?;
         last = Some(rep);
         out.report(b, cv::seconds(&s.stamp), odom, tw, opts.setup.params.dwa.sim_time, s.scan).await?;
