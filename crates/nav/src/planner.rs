@@ -195,6 +195,10 @@ pub fn segment_cost_ok(cm: &Costmap, a: Point2, b: Point2, max_cost: u8) -> bool
 }
 
 /// Greedy string pulling: from each kept point, jump to the farthest point in cheap sight.
+/// A leg never crosses a cell as costly as `max_cost`, not even from a costly point: from a
+/// start (or a goal) near a wall the path keeps the search's cells, which leave the costly band
+/// down its gradient, rather than a straight leg that runs along the wall at the start's cost
+/// (where a footprint wider than the inscribed radius rubs it the whole way).
 fn string_pull(cm: &Costmap, pts: &[Point2], max_cost: u8) -> Vec<Point2> {
     if pts.len() <= 2 {
         return pts.to_vec();
@@ -206,7 +210,7 @@ fn string_pull(cm: &Costmap, pts: &[Point2], max_cost: u8) -> Vec<Point2> {
         let mut k = pts.len() - 1;
         // Farthest visible point, scanning back from the end (paths are short; fine).
         while k > i + 1 {
-            if segment_cost_ok(cm, pts[i], pts[k], max_cost.max(cm.cost_at(pts[i]).saturating_add(1))) {
+            if segment_cost_ok(cm, pts[i], pts[k], max_cost) {
                 j = k;
                 break;
             }
@@ -299,6 +303,27 @@ mod tests {
         let small = Costmap::from_map(&OccupancyGrid::new(30, 20, 0.05, Pose2::default(), 0), &CostmapParams::default());
         let (a, b) = (Point2::new(0.2, 0.2), Point2::new(1.3, 0.8));
         assert_eq!(plan_with(&mut scratch, &small, a, b, &PlannerParams::default()), plan(&small, a, b, &PlannerParams::default()));
+    }
+
+    #[test]
+    fn a_start_and_goal_beside_a_wall_get_a_path_that_leaves_it_between_them() {
+        // A long wall at y = 2 (rows 40-41); start and goal 0.15 m below it, 3 m apart, where
+        // the default inflation costs 152. A straight leg at the start's cost used to hug the
+        // wall all the way; the path now leaves the costly band (cost < smooth_max_cost) in
+        // between, as the search's cells do.
+        let mut m = OccupancyGrid::new(100, 80, 0.05, Pose2::default(), 0);
+        for c in 0..100 {
+            m.set(c, 40, 100);
+            m.set(c, 41, 100);
+        }
+        let cm = Costmap::from_map(&m, &CostmapParams::default());
+        let (s, g) = (Point2::new(1.0, 1.85), Point2::new(4.0, 1.85));
+        let p = PlannerParams::default();
+        assert!(cm.cost_at(s) > p.smooth_max_cost && cm.cost_at(g) > p.smooth_max_cost);
+        let path = plan(&cm, s, g, &p).unwrap();
+        let middle: Vec<&Pose2> = path.iter().filter(|q| q.x > 1.8 && q.x < 3.2).collect();
+        assert!(!middle.is_empty() && middle.iter().all(|q| cm.cost_at(q.position()) < p.smooth_max_cost), "{path:?}");
+        assert!(path_length(&path) < 3.0 * 1.15, "{path:?}");
     }
 
     #[test]
