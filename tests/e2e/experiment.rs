@@ -57,8 +57,11 @@ fn a_study_equals_its_bench_runs_and_resumes() {
     let d = fresh("whole");
     let s = spec(&d, SPEC);
     let out = d.join("out");
-    let log = run_ok(xhab().current_dir(&d).args(["-q", "experiment"]).arg(&s).arg("--out").arg(&out).arg("--no-report"));
+    let log = run_ok(xhab().current_dir(&d).args(["-q", "experiment"]).arg(&s).arg("--out").arg(&out));
     assert!(log.contains("6 parts run, 0 already finished"), "{log}");
+    // The report is written at the end (its contents: tests/e2e/report.rs).
+    let page = std::fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(page.contains("e2e study") && page.contains("+physics +ROS"), "the report misses the study");
     let results = json(&out.join("results.json"));
     let runs = results["runs"].as_array().unwrap();
     // oracle under all four configurations, nav under the two with physics.
@@ -194,6 +197,12 @@ fn slurm_runs_the_shards_and_merges() {
     // Give the merge job a moment to finish writing its last file.
     std::thread::sleep(Duration::from_millis(500));
     assert_eq!(untimed(json(&out.join("results.json")), false), untimed(json(&whole.join("results.json")), false));
+    // The merge job writes the report after the results.
+    let t = Instant::now();
+    while !out.join("report/index.html").exists() && t.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    assert!(out.join("report/index.html").exists(), "the merge job wrote no report");
     drop(cluster);
     std::fs::remove_dir_all(&d).ok();
 }

@@ -14,6 +14,7 @@ pub mod agents;
 pub mod benchmark;
 pub mod demo;
 pub mod explore;
+pub mod exploration_run;
 pub mod global_localization;
 pub mod gym;
 pub mod map_picture;

@@ -76,7 +76,7 @@ pub struct ExperimentRun {
 pub enum ExperimentError {
     /// The runs could not be planned.
     #[error(transparent)]
-    Plan(#[from] PlanError),
+    Plan(Box<PlanError>),
     /// The folder holds another study.
     #[error("{dir} holds results of another experiment (its experiment.json differs from this spec): choose another --out")]
     OtherStudy {
@@ -98,22 +98,40 @@ pub enum ExperimentError {
         run: String,
         /// Why.
         #[source]
-        source: BenchError,
+        source: Box<BenchError>,
     },
     /// Writing parts, maps or results failed.
     #[error(transparent)]
-    Results(#[from] ResultsError),
+    Results(Box<ResultsError>),
     /// The report could not be made.
     #[error(transparent)]
-    Report(#[from] crate::report::ReportError),
+    Report(Box<crate::report::ReportError>),
     /// The SLURM submission failed.
     #[error(transparent)]
-    Slurm(#[from] crate::slurm::SlurmError),
+    Slurm(Box<crate::slurm::SlurmError>),
 }
+
+/// Errors are boxed in [`ExperimentError`] (they are large); `?` boxes them.
+macro_rules! boxed_from {
+    ($($t:ty => $v:ident),*) => {$(
+        impl From<$t> for ExperimentError {
+            fn from(e: $t) -> Self {
+                ExperimentError::$v(Box::new(e))
+            }
+        }
+    )*};
+}
+boxed_from!(PlanError => Plan, ResultsError => Results, crate::report::ReportError => Report, crate::slurm::SlurmError => Slurm);
 
 /// Runs `spec` into `o.out`: its parts (all, or a shard's), skipping those already there;
 /// unsharded, then merges them into `results.json`/`.csv` and the report.
 pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(dyn Fn(Progress<'_>) + Sync)) -> Result<ExperimentRun, ExperimentError> {
+    run_experiment_until(spec, o, &AtomicBool::new(false), progress)
+}
+
+/// [`run_experiment`] that stops with a `Cancelled` bench error once `cancel` is set (e.g. on
+/// Ctrl-C); the parts finished so far stay in the folder, so a rerun resumes after them.
+pub fn run_experiment_until(spec: &ExperimentSpec, o: &ExperimentOptions, cancel: &AtomicBool, progress: &(dyn Fn(Progress<'_>) + Sync)) -> Result<ExperimentRun, ExperimentError> {
     let plan = prepare(spec, &o.out)?;
     let mine = parts(&plan, o.shard);
     progress(Progress::Planned { plan: &plan, parts: mine.len(), episodes: mine.iter().map(|p| p.end - p.first).sum() });
@@ -128,7 +146,7 @@ pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(
         }
         let mut bo = bench_options(spec, run, p.first, p.end).map_err(|message| ExperimentError::Options { run: run.id.clone(), message })?;
         bo.record_trajectories = true;
-        let b = run_bench_until(&bo, &AtomicBool::new(false), &|done, total| progress(Progress::Episode { done, total })).map_err(|source| ExperimentError::Bench { run: run.id.clone(), source })?;
+        let b = run_bench_until(&bo, cancel, &|done, total| progress(Progress::Episode { done, total })).map_err(|source| ExperimentError::Bench { run: run.id.clone(), source: Box::new(source) })?;
         for w in &b.warnings {
             progress(Progress::Warning(w));
         }
@@ -148,7 +166,7 @@ pub fn run_experiment(spec: &ExperimentSpec, o: &ExperimentOptions, progress: &(
 pub fn prepare(spec: &ExperimentSpec, out: &Path) -> Result<Plan, ExperimentError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
-        move |source| ExperimentError::Results(ResultsError::Io { path, source })
+        move |source| ExperimentError::Results(Box::new(ResultsError::Io { path, source }))
     };
     std::fs::create_dir_all(out).map_err(io(out))?;
     let plan = plan(spec, out)?;
@@ -169,7 +187,7 @@ pub fn prepare(spec: &ExperimentSpec, out: &Path) -> Result<Plan, ExperimentErro
 /// `xhab merge`: the parts in `dirs` (shards of one study) merged into `out`, then the
 /// report when `report`; the results and the report's page.
 pub fn merge_and_report(dirs: &[PathBuf], out: &Path, report: bool) -> Result<(Results, Option<PathBuf>), ExperimentError> {
-    std::fs::create_dir_all(out).map_err(|source| ExperimentError::Results(ResultsError::Io { path: out.to_path_buf(), source }))?;
+    std::fs::create_dir_all(out).map_err(|source| ExperimentError::Results(Box::new(ResultsError::Io { path: out.to_path_buf(), source })))?;
     let results = merge(dirs, out)?;
     let page = if report { Some(crate::report::write_report(out)?) } else { None };
     Ok((results, page))

@@ -12,7 +12,7 @@ pub mod shard;
 pub mod slurm;
 pub mod spec;
 
-pub use execute::{run_experiment, ExperimentError, ExperimentOptions, ExperimentRun, Progress};
+pub use execute::{merge_and_report, run_experiment, run_experiment_until, ExperimentError, ExperimentOptions, ExperimentRun, Progress};
 pub use plan::{plan, Plan, RunPlan};
 pub use results::{merge, Results};
 pub use shard::Shard;

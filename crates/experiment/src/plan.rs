@@ -70,7 +70,7 @@ pub enum PlanError {
         scene: String,
         /// Why.
         #[source]
-        source: SetupError,
+        source: Box<SetupError>,
     },
     /// A generated episode set could not be written.
     #[error("writing generated episodes {path}")]
@@ -136,7 +136,7 @@ fn not_applicable(agent: &AgentSpec, c: &Configuration) -> Option<&'static str> 
 
 /// The scene's episodes file, its name in reports, and how many episodes it holds.
 fn episode_set(scene: &SceneSpec, dir: &Path) -> Result<(PathBuf, String, usize), PlanError> {
-    let setup_err = |source| PlanError::Setup { scene: scene.label(), source };
+    let setup_err = |source| PlanError::Setup { scene: scene.label(), source: Box::new(source) };
     if let Some(f) = &scene.episodes {
         let path = PathBuf::from(f);
         let ds = setup::read_episodes(&path).map_err(setup_err)?;

@@ -151,7 +151,7 @@ impl Costmap {
 /// outside). Truncation equals `floor` for the non-negative values kept, without a libm call.
 #[inline]
 pub fn axis_cell(x: f64, n: usize) -> Option<usize> {
-    (x >= 0.0 && x < n as f64).then(|| x as usize)
+    (x >= 0.0 && x < n as f64).then_some(x as usize)
 }
 
 /// Distance (in cells) from each cell centre to the nearest `true` cell centre (exact EDT).

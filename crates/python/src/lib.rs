@@ -7,6 +7,8 @@
 //! the CLI prints it): `FileNotFoundError` when a file is missing, `ValueError` for bad input,
 //! `RuntimeError` for calls out of order. Long runs release the GIL and check for Ctrl-C.
 
+mod study;
+
 use pyo3::exceptions::{PyFileNotFoundError, PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
@@ -837,5 +839,7 @@ fn _xhab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(geodesic_distance, m)?)?;
     m.add_function(wrap_pyfunction!(generate_episodes, m)?)?;
     m.add_function(wrap_pyfunction!(make_map, m)?)?;
+    m.add_function(wrap_pyfunction!(study::experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(study::merge, m)?)?;
     Ok(())
 }

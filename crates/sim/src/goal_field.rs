@@ -195,7 +195,7 @@ impl GoalField {
         // The smallest first: a few linear scans (usually one suffices), then a sort.
         let order = |a: &(f64, u32), b: &(f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
         for _ in 0..8 {
-            let Some(k) = (0..cand.len()).min_by(|&a, &b| order(&cand[a], &cand[b])) else { return None };
+            let k = (0..cand.len()).min_by(|&a, &b| order(&cand[a], &cand[b]))?;
             let (_, q) = cand.swap_remove(k);
             if self.sees(grid, q, c) {
                 return Some(q);

@@ -92,7 +92,7 @@ impl Pose2 {
 pub fn normalize_angle(a: f64) -> f64 {
     use std::f64::consts::TAU;
     // Within one turn of zero `rem_euclid` is exact without its division: the same value.
-    let mut r = if a >= 0.0 && a < TAU {
+    let mut r = if (0.0..TAU).contains(&a) {
         a
     } else if a < 0.0 && a > -TAU {
         a + TAU

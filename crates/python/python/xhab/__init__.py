@@ -8,6 +8,8 @@
   conventions, next-step autoreset).
 - ``evaluate(agent, scene, episodes)``: any Python agent on every episode, with the same
   report as ``xhab bench --out``; ``bench`` runs a built-in agent (oracle, nav, ros).
+- ``experiment(spec)``: a study (scenes x agents x ±physics ±ROS x seeds) as
+  ``xhab experiment`` runs it, whole or one shard; ``merge`` combines shards.
 - ``geodesic_distance``, ``generate_episodes``, ``make_map``: the CLI's other jobs.
 
 Scenes are ``.glb``/``.gltf``/``.obj``/``.ply`` files or ``procedural[:SEED]``. Points are in
@@ -29,6 +31,8 @@ __all__ = [
     "geodesic_distance",
     "generate_episodes",
     "make_map",
+    "experiment",
+    "merge",
     "ShortestPathFollower",
     "EpisodeView",
 ]
@@ -110,3 +114,34 @@ def make_map(scene, out, *, resolution=0.05, floor="auto", laser_height=None, **
     yaml, png, w, h, r = _xhab.make_map(str(scene), _os.fspath(out), float(resolution), str(floor),
                                         None if laser_height is None else float(laser_height), _options(**kwargs))
     return {"yaml": yaml, "png": png, "width": w, "height": h, "resolution": r}
+
+
+def experiment(spec, out=None, *, shard=None, report=True):
+    """Runs a study as ``xhab experiment`` does and returns its results (the dict
+    ``results.json`` holds: ``runs`` with each run's ``aggregate``, ``episodes`` one row per
+    run x episode, ``skipped``), or ``None`` for a shard.
+
+    ``spec``: a YAML file's path, or the spec itself as a dict (the YAML's fields: ``name``,
+    ``scenes``, ``agents``, ``configurations``, ``seeds``, ...). ``out``: the study's folder
+    (default ``results/NAME``); finished runs there are skipped, so a rerun resumes.
+    ``shard``: ``"K/N"`` to run one slice (``merge`` combines them). ``report``: write
+    ``OUT/report/index.html``. Ctrl-C stops after the episode in progress; what finished stays.
+    """
+    if isinstance(spec, dict):
+        text, source = _json.dumps(spec), "<dict>"
+    else:
+        source = _os.fspath(spec)
+        with open(source, encoding="utf-8") as f:
+            text = f.read()
+    out = None if out is None else _os.fspath(out)
+    results, _folder = _xhab.experiment(text, source, out, None if shard is None else str(shard), bool(report))
+    return None if results is None else _json.loads(results)
+
+
+def merge(dirs, out=None, *, report=True):
+    """Merges the shards of a study (``experiment(..., shard="K/N")`` folders) into ``out``
+    (default: the first folder) as ``xhab merge`` does; returns the results dict."""
+    if isinstance(dirs, (str, _os.PathLike)):
+        dirs = [dirs]
+    out = None if out is None else _os.fspath(out)
+    return _json.loads(_xhab.merge([_os.fspath(d) for d in dirs], out, bool(report)))

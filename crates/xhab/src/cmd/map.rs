@@ -1,35 +1,25 @@
 //! `xhab map`: a map_server map and a picture of a scene's floor, derived from the scene's
 //! geometry or (`--explore`) built by a robot exploring it.
 
-use crate::cli::{CameraOpts, MapArgs};
-use xhab_bridge::map_picture::MapPicture;
-use crate::scene_arg::{floor_index, load_world};
+use crate::cli::{CameraOpts, MapArgs, SceneOpts};
+use crate::scene_arg::{floor_index, load_world, scene_options};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
-use xhab_bridge::explore::{default_start, ExploreParams, ExploreSensors};
-use xhab_nav::map_agreement::map_agreement;
-use xhab_sim::navgrid::NavGrid;
-use xhab_sim::robot::{PhysicsScene, RobotProfile};
-use xhab_sim::sensors::RayScene;
-use xhab_sim::world::World;
-use xhab_types::{OccupancyGrid, Point2, Pose2};
+use xhab_bridge::exploration_run::{explore_scene, ExploreOptions};
+use xhab_types::{OccupancyGrid, Pose2};
 
 pub fn run(a: &MapArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let mut opts = a.scene_opts.clone();
     opts.cell_size = a.resolution;
-    let profile = if a.explore { Some(RobotProfile::named_or_file(&a.robot).with_context(|| format!("--robot {}", a.robot))?) } else { None };
-    if let Some(p) = &profile {
-        opts.agent_radius.get_or_insert(p.radius);
+    if a.explore {
+        return explore(a, &opts, t0);
     }
     let world = load_world(&a.scene, &opts)?;
     let floor = floor_index(&world, &a.floor)?;
     let grid = world.grid(floor).with_context(|| format!("building the map of {}", a.scene))?;
-    if let Some(profile) = profile {
-        return explore(a, &world, &grid, profile, t0);
-    }
     let map = xhab_bridge::setup::floor_map(&world, &grid, a.laser_height)?;
     let (yaml, png) = write_map(&map, &a.out)?;
     let (free, occ) = counts(&map);
@@ -50,48 +40,45 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
 
 /// `--explore`: the robot explores the floor; writes the map it built, its path drawn on the
 /// picture, and how the map agrees with the one derived from the geometry.
-fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0: Instant) -> Result<ExitCode> {
-    let nav = super::nav_params(&a.nav_params, Some(&profile))?;
+fn explore(a: &MapArgs, opts: &SceneOpts, t0: Instant) -> Result<ExitCode> {
     let start = match &a.start {
         Some(s) => {
             let v = super::navigate::numbers(s, 3, "--start (X,Y,YAW)")?;
-            Pose2::new(v[0], v[1], v[2])
+            Some(Pose2::new(v[0], v[1], v[2]))
         }
-        None => default_start(grid).context("the floor has no navigable cell to start from")?,
+        None => None,
     };
-    if !grid.is_navigable(start.position()) {
-        anyhow::bail!("--start ({:.2}, {:.2}) is not navigable for the robot", start.x, start.y);
+    let o = ExploreOptions {
+        scene: a.scene.clone(),
+        scene_options: scene_options(opts),
+        floor: a.floor.clone(),
+        robot: a.robot.clone(),
+        start,
+        nav_params: a.nav_params.clone(),
+        max_time: a.max_time,
+        seed: a.seed,
+        renderer: super::render::camera_options(&CameraOpts { renderer: a.renderer, resolution: 256, hfov: 90.0, camera_height: None, batch: None }).renderer,
+    };
+    let run = explore_scene(&o)?;
+    super::render::print_renderer_note(&run.renderer_note);
+    for w in &run.warnings {
+        eprintln!("xhab: warning: {w}");
     }
-    let physics = PhysicsScene::new(&world.scene)?;
-    let rays = RayScene::new(&world.scene).context("the scene has no triangles to scan")?;
-    let cam_opts = CameraOpts { renderer: a.renderer, resolution: 256, hfov: 90.0, camera_height: Some(profile.camera_height), batch: None };
-    let renderer = super::render::renderer(&cam_opts, &world.scene)?;
-    let cam = super::render::camera(&cam_opts, profile.camera_height)?;
-    let mut params = ExploreParams { max_time: a.max_time, ..Default::default() };
-    // Obstacles are what the robot would hit: from the highest step it climbs to its height.
-    params.projection.min_obstacle_height = grid.params.max_climb;
-    params.projection.max_obstacle_height = profile.height;
-    let sensors = ExploreSensors { rays: &rays, camera: Some((&renderer, cam)) };
-    let run = xhab_bridge::explore::explore(grid, &physics, &sensors, &profile, &nav, &params, start, a.seed)?;
-    let (yaml, png) = write_map(&run.map, &a.out)?;
-    let mut pic = MapPicture::new(&run.map);
-    let pts: Vec<Point2> = run.trajectory.iter().map(|p| p.position()).collect();
-    pic.polyline(&pts, [230, 120, 0]);
-    pic.dot(start.position(), 4, [0, 170, 0]);
-    pic.save(&png)?;
-    let reference = grid.occupancy_grid();
-    let agree = map_agreement(&run.map, &reference, start.position());
-    let (free, occ) = counts(&run.map);
+    let x = &run.exploration;
+    let (yaml, png) = write_map(&x.map, &a.out)?;
+    run.picture().save(&png)?;
+    let agree = &run.agreement;
+    let (free_m2, occ) = run.counts();
     let report = serde_json::json!({
         "scene": a.scene,
-        "robot": profile.name,
-        "start": [start.x, start.y, start.yaw],
-        "end": run.end,
-        "sim_s": run.sim_s,
-        "travel_m": run.travel_m,
-        "targets_reached": run.targets_reached,
-        "targets_abandoned": run.targets_abandoned,
-        "free_m2": free as f64 * run.map.resolution * run.map.resolution,
+        "robot": run.robot,
+        "start": [run.start.x, run.start.y, run.start.yaw],
+        "end": x.end,
+        "sim_s": x.sim_s,
+        "travel_m": x.travel_m,
+        "targets_reached": x.targets_reached,
+        "targets_abandoned": x.targets_abandoned,
+        "free_m2": free_m2,
         "occupied_cells": occ,
         "reference_free_coverage": agree.free_coverage,
         "connected_free_coverage": agree.connected_free_coverage,
@@ -106,11 +93,11 @@ fn explore(a: &MapArgs, world: &World, grid: &NavGrid, profile: RobotProfile, t0
         "xhab: explored for {:.0} s simulated ({:.1} m driven, {} frontiers reached, {} abandoned, ended: {:?}) in {:.2} s; \
          the map covers {:.1}% of the free space of the scene's map ({:.1}% of the part connected to the start), \
          {:.2}% of its free cells are occupied there; wrote {} and {}",
-        run.sim_s,
-        run.travel_m,
-        run.targets_reached,
-        run.targets_abandoned,
-        run.end,
+        x.sim_s,
+        x.travel_m,
+        x.targets_reached,
+        x.targets_abandoned,
+        x.end,
         t0.elapsed().as_secs_f64(),
         100.0 * agree.free_coverage,
         100.0 * agree.connected_free_coverage,

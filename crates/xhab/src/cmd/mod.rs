@@ -17,9 +17,6 @@ mod scene;
 
 use crate::cli::{Cli, Command};
 use anyhow::Result;
-use xhab_nav::navigator::NavParams;
-use xhab_nav::ros_params::ParamFile;
-use xhab_sim::robot::RobotProfile;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::process::ExitCode;
 
@@ -41,16 +38,6 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Merge(a) => merge::run(a),
         Command::Report(a) => report::run(a),
     }
-}
-
-/// The navigation parameters of `--nav-params` (defaults without files), their warnings
-/// printed; each costmap the files leave without a shape takes `robot`'s radius and footprint.
-pub fn nav_params(files: &[ParamFile], robot: Option<&RobotProfile>) -> Result<NavParams> {
-    let (params, warnings) = xhab_bridge::benchmark::nav_params(files, robot)?;
-    for w in &warnings {
-        eprintln!("xhab: warning: {w}");
-    }
-    Ok(params)
 }
 
 /// A progress bar on stderr that hides itself off a terminal or when quiet.
