@@ -159,3 +159,33 @@ fn a_bad_value_in_a_ros_file_names_the_file_and_key() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("dwa.yaml: DWAPlannerROS/sim_granularity: must be > 0, got 0"), "{err}");
 }
+
+#[test]
+fn turtlebot3_files_drive_a_burger_through_turtlebot3_house_under_amcl() {
+    // Issue 22: with TurtleBot3's own files (inflation 0.2 m from a 0.041 m inscribed radius,
+    // DWA at 10 Hz with min_vel_trans 0.11 / min_vel_theta 1.37 under their old names), the
+    // native stack crept and dithered at door jambs until it aborted with no_progress: 23 of
+    // the 26 shared episodes failed. Six of them must now succeed, as with xhab's defaults.
+    let Some(data) = data_dir("turtlebot3_files_drive_a_burger_through_turtlebot3_house_under_amcl") else { return };
+    let d = std::env::temp_dir().join(format!("xhab-params-house-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let mut ds = xhab_sim::episode::read_dataset(&data.join("episodes/turtlebot3_house_pointnav.json.gz")).unwrap();
+    ds.episodes.truncate(6);
+    let eps = d.join("e.json.gz");
+    xhab_sim::episode::write_dataset(&ds, &eps).unwrap();
+    let r = d.join("r.json");
+    let mut cmd = xhab();
+    cmd.args(["bench", "--scene", data.join("scenes/turtlebot3_house.glb").to_str().unwrap(), "--episodes", eps.to_str().unwrap()]);
+    cmd.args(["--agent", "nav", "--robot", "turtlebot3_burger", "--localization", "amcl", "--threads", "2", "--out", r.to_str().unwrap(), "--quiet"]);
+    for a in tb3_args(&data) {
+        cmd.args(["--nav-params", &a]);
+    }
+    let out = cmd.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
+    let a = &j["aggregate"];
+    eprintln!("TurtleBot3's parameters on turtlebot3_house: {a}");
+    let aborted: Vec<&serde_json::Value> = j["episodes"].as_array().unwrap().iter().filter(|e| e["aborted"] == true).collect();
+    assert!(aborted.is_empty(), "{aborted:?}");
+    assert!(a["success"].as_f64().unwrap() >= 5.0 / 6.0 && a["spl"].as_f64().unwrap() >= 0.85, "{a}");
+}
