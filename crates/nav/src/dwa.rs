@@ -194,7 +194,7 @@ impl Dwa {
         let (v_lo, v_hi) = ((vel.linear - p.acc_lim_x * dt).max(p.min_vel_x).max(-p.max_vel_trans), (vel.linear + p.acc_lim_x * dt).min(p.max_vel_x).min(p.max_vel_trans));
         let (w_lo, w_hi) = ((vel.angular - p.acc_lim_theta * dt).max(-p.max_vel_theta), (vel.angular + p.acc_lim_theta * dt).min(p.max_vel_theta));
         let mut best: Option<(f64, Twist)> = None;
-        let mut along = PathWindow::new(window, lg);
+        let along = PathWindow::new(window, lg);
         // A robot that already stands in the inscribed zone (a start close to furniture, the
         // map's cells being coarser than the geometry) may move through it, never deeper; a
         // footprint that already touches an obstacle may go on touching it while the centre
@@ -206,7 +206,7 @@ impl Dwa {
                 if !moves_enough(v, w, p.min_vel_trans, p.min_vel_theta) {
                     continue;
                 }
-                let Some(score) = self.score(pose, v, w, cm, start, &mut along) else { continue };
+                let Some(score) = self.score(pose, v, w, cm, start, &along) else { continue };
                 if best.is_none_or(|b| score < b.0) {
                     best = Some((score, Twist { linear: v, angular: w }));
                 }
@@ -235,7 +235,7 @@ impl Dwa {
 
     /// Cost of the rollout at (v, w): lower is better; `None` when it hits an obstacle.
     /// `start`: the cost at the robot's centre and whether its footprint touches an obstacle.
-    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, start: (u8, bool), along: &mut PathWindow<'_>) -> Option<f64> {
+    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, start: (u8, bool), along: &PathWindow<'_>) -> Option<f64> {
         let p = &self.params;
         let steps = ((v.abs() * p.sim_time / p.sim_granularity).max(w.abs() * p.sim_time / 0.1)).ceil().max(1.0) as usize;
         let dt = p.sim_time / steps as f64;
@@ -258,7 +258,7 @@ impl Dwa {
                 return None;
             }
             max_cost = max_cost.max(c);
-            if end.is_some_and(|g| q.position().dist(g) <= p.xy_goal_tolerance) {
+            if end.is_some_and(|g| (q.x - g.x) * (q.x - g.x) + (q.y - g.y) * (q.y - g.y) <= p.xy_goal_tolerance * p.xy_goal_tolerance) {
                 break;
             }
         }
@@ -283,44 +283,54 @@ impl Dwa {
 /// same order as a single rollout does) and the end's distance to the local goal.
 struct PathWindow<'a> {
     points: &'a [Pose2],
-    remaining: Vec<Option<f64>>,
+    /// Per segment `i` (points `i` to `i + 1`): its start, direction, 1 / squared length
+    /// (0 for a zero-length segment) and length (m).
+    segments: Vec<(Point2, (f64, f64), f64, f64)>,
+    /// Path length from each point to the window's end (m).
+    remaining: Vec<f64>,
     end_to_goal: f64,
 }
 
 impl<'a> PathWindow<'a> {
     fn new(points: &'a [Pose2], lg: Point2) -> Self {
         let end_to_goal = lg.dist(points[points.len() - 1].position());
-        Self { points, remaining: vec![None; points.len()], end_to_goal }
-    }
-
-    /// Path length from point `i` to the window's end (m).
-    fn remaining(&mut self, i: usize) -> f64 {
-        *self.remaining[i].get_or_insert_with(|| self.points[i..].windows(2).map(|w| w[0].position().dist(w[1].position())).sum())
+        let segments: Vec<_> = points
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0].position(), w[1].position());
+                let (dx, dy) = (b.x - a.x, b.y - a.y);
+                let l2 = dx * dx + dy * dy;
+                (a, (dx, dy), if l2 > 0.0 { 1.0 / l2 } else { 0.0 }, l2.sqrt())
+            })
+            .collect();
+        let mut remaining = vec![0.0; points.len()];
+        for i in (0..segments.len()).rev() {
+            remaining[i] = remaining[i + 1] + segments[i].3;
+        }
+        Self { points, segments, remaining, end_to_goal }
     }
 
     /// Distance from `p` to the path (its polyline, not only its points, which lie two cells
     /// apart), and to the local goal along the path from the path's point nearest to `p` (not
     /// the straight line, which cuts corners) (m). Ties go to the first segment in plan order.
-    fn distances(&mut self, p: Point2) -> (f64, f64) {
-        let pts = self.points;
-        if pts.len() == 1 {
-            let d = pts[0].position().dist(p);
+    /// Squared distances pick the segment; one square root per call.
+    fn distances(&self, p: Point2) -> (f64, f64) {
+        if self.segments.is_empty() {
+            let d = self.points[0].position().dist(p);
             return (d, d + self.end_to_goal);
         }
-        let (mut best_d, mut best) = (f64::INFINITY, (0, 0.0));
-        for (i, w) in pts.windows(2).enumerate() {
-            let (a, b) = (w[0].position(), w[1].position());
-            let (dx, dy) = (b.x - a.x, b.y - a.y);
-            let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 { (((p.x - a.x) * dx + (p.y - a.y) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
-            let d = Point2::new(a.x + t * dx, a.y + t * dy).dist(p);
-            if d < best_d {
-                (best_d, best) = (d, (i, t));
+        let (mut best_d2, mut best) = (f64::INFINITY, (0, 0.0));
+        for (i, &(a, (dx, dy), inv_l2, _)) in self.segments.iter().enumerate() {
+            let t = (((p.x - a.x) * dx + (p.y - a.y) * dy) * inv_l2).clamp(0.0, 1.0);
+            let (ex, ey) = (a.x + t * dx - p.x, a.y + t * dy - p.y);
+            let d2 = ex * ex + ey * ey;
+            if d2 < best_d2 {
+                (best_d2, best) = (d2, (i, t));
             }
         }
         let (i, t) = best;
-        let to_next = (1.0 - t) * pts[i].position().dist(pts[i + 1].position());
-        (best_d, best_d + to_next + self.remaining(i + 1) + self.end_to_goal)
+        let d = best_d2.sqrt();
+        (d, d + (1.0 - t) * self.segments[i].3 + self.remaining[i + 1] + self.end_to_goal)
     }
 }
 
@@ -524,17 +534,17 @@ mod tests {
     fn distances_are_to_the_path_between_its_points_too() {
         // Points 0.1 m apart along y = 1; the local goal 0.5 m past the window's end.
         let plan: Vec<Pose2> = (0..=10).map(|k| Pose2::new(1.0 + 0.1 * k as f64, 1.0, 0.0)).collect();
-        let mut w = PathWindow::new(&plan, Point2::new(2.5, 1.0));
-        let check = |w: &mut PathWindow<'_>, p: Point2, want: (f64, f64)| {
+        let w = PathWindow::new(&plan, Point2::new(2.5, 1.0));
+        let check = |w: &PathWindow<'_>, p: Point2, want: (f64, f64)| {
             let got = w.distances(p);
             assert!((got.0 - want.0).abs() < 1e-9 && (got.1 - want.1).abs() < 1e-9, "{p:?}: {got:?} vs {want:?}");
         };
         // Halfway between two points: on the path, 0.95 m + 0.5 m from the local goal.
-        check(&mut w, Point2::new(1.05, 1.0), (0.0, 1.45));
-        check(&mut w, Point2::new(1.55, 1.2), (0.2, 0.2 + 0.45 + 0.5));
+        check(&w, Point2::new(1.05, 1.0), (0.0, 1.45));
+        check(&w, Point2::new(1.55, 1.2), (0.2, 0.2 + 0.45 + 0.5));
         // Off the ends: to the end points.
-        check(&mut w, Point2::new(0.7, 1.4), (0.5, 0.5 + 1.0 + 0.5));
-        check(&mut w, Point2::new(2.3, 1.0), (0.3, 0.3 + 0.5));
+        check(&w, Point2::new(0.7, 1.4), (0.5, 0.5 + 1.0 + 0.5));
+        check(&w, Point2::new(2.3, 1.0), (0.3, 0.3 + 0.5));
     }
 
     #[test]

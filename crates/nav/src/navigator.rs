@@ -6,7 +6,7 @@ use crate::layered_costmap::LayeredCostmap;
 use crate::obstacle_layer::ObstacleParams;
 use crate::dwa::{Dwa, DwaParams};
 use crate::goal_approach::{approach_command, goal_check, round_footprint, GoalApproachParams, GoalCheck};
-use crate::planner::{plan_with, PlanError, PlanScratch, PlannerParams};
+use crate::planner::{plan_on_version, PlanError, PlanScratch, PlannerParams};
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
@@ -206,6 +206,7 @@ impl Navigator {
     pub fn set_map(&mut self, map: &OccupancyGrid) {
         let p = &self.params;
         self.layers = Some(LayeredCostmap::new(map, &p.global_costmap, &p.local_costmap, p.obstacle_layer.clone()));
+        self.scratch.forget_search();
     }
 
     /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
@@ -298,7 +299,7 @@ impl Navigator {
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
             let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
             layers.update_global();
-            match plan_with(&mut self.scratch, layers.global(), here, goal, &self.params.planner) {
+            match plan_on_version(&mut self.scratch, layers.global(), Some(layers.global_version()), here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
                     self.dwa.set_plan(&self.plan);
