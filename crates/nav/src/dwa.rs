@@ -2,9 +2,19 @@
 //! dynamic window, rolls each out for `sim_time`, and scores the rollouts by distance to the
 //! global path, progress towards a local goal on it, and obstacle cost.
 //!
+//! As dwa_local_planner, the window's velocities are sampled evenly with zero added where the
+//! window spans it (base_local_planner's `VelocityIterator`), standing still is no sample, and a
+//! sample slower than both `min_vel_trans` and `min_vel_theta` is left out, so the robot never
+//! creeps; each rollout is scored at its end (`path_costs`, `goal_costs`) and at the point
+//! `forward_point_distance` ahead of it (`alignment_costs`, `goal_front_costs`).
+//!
 //! Fixes for known ROS failure modes: a goal or path behind the robot makes it turn in place
 //! towards the path first (ROS DWA would back up or stall); in-place turns are scored by the
-//! heading they reach, not all alike; the xy goal latch is reset whenever a new plan arrives.
+//! heading they reach, not all alike; the xy goal latch is reset whenever a new plan arrives; a
+//! robot whose footprint already touches an obstacle (a start placed by a round radius, the
+//! map's cells coarser than the geometry) may move on as long as it gets no closer to it; a
+//! rollout that reaches the plan's end stops there (what lies beyond a goal beside a wall does
+//! not rule out approaching it at `min_vel_trans`).
 
 use crate::costmap::{Costmap, INSCRIBED, LETHAL};
 use serde::{Deserialize, Serialize};
@@ -24,8 +34,14 @@ pub struct DwaParams {
     pub min_vel_x: f64,
     /// Largest translational speed, whatever the direction (m/s, default 0.55).
     pub max_vel_trans: f64,
+    /// Smallest translational speed of a sample that does not turn at `min_vel_theta` or
+    /// more (m/s, default 0.1): a sample slower than both is left out.
+    pub min_vel_trans: f64,
     /// Largest turn rate (rad/s, default 1.5).
     pub max_vel_theta: f64,
+    /// Smallest turn rate of a sample that does not move at `min_vel_trans` or more (rad/s,
+    /// default 0.4).
+    pub min_vel_theta: f64,
     /// Forward acceleration limit (m/s^2, default 2.5).
     pub acc_lim_x: f64,
     /// Angular acceleration limit (rad/s^2, default 3.2).
@@ -34,9 +50,10 @@ pub struct DwaParams {
     pub sim_time: f64,
     /// Rollout step (m, default 0.025).
     pub sim_granularity: f64,
-    /// Forward speed samples (default 6).
+    /// Forward speed samples (default 6; at least 2 unless the window is one speed; a zero is
+    /// added where the window spans it).
     pub vx_samples: usize,
-    /// Turn rate samples (default 20).
+    /// Turn rate samples (default 20; at least 2, with zero added as for `vx_samples`).
     pub vth_samples: usize,
     /// Weight of the distance to the path (default 32).
     pub path_distance_bias: f64,
@@ -44,7 +61,8 @@ pub struct DwaParams {
     pub goal_distance_bias: f64,
     /// Weight of the obstacle cost (default 0.01).
     pub occdist_scale: f64,
-    /// Point ahead of the robot scored against the path (m, default 0.325).
+    /// Point ahead of the rollout's end scored against the path and the local goal, besides
+    /// the end itself (m, default 0.325).
     pub forward_point_distance: f64,
     /// Goal reached within this distance (m, default 0.1).
     pub xy_goal_tolerance: f64,
@@ -62,7 +80,9 @@ impl Default for DwaParams {
             max_vel_x: 0.5,
             min_vel_x: 0.0,
             max_vel_trans: 0.55,
+            min_vel_trans: 0.1,
             max_vel_theta: 1.5,
+            min_vel_theta: 0.4,
             acc_lim_x: 2.5,
             acc_lim_theta: 3.2,
             sim_time: 1.7,
@@ -174,12 +194,19 @@ impl Dwa {
         let (v_lo, v_hi) = ((vel.linear - p.acc_lim_x * dt).max(p.min_vel_x).max(-p.max_vel_trans), (vel.linear + p.acc_lim_x * dt).min(p.max_vel_x).min(p.max_vel_trans));
         let (w_lo, w_hi) = ((vel.angular - p.acc_lim_theta * dt).max(-p.max_vel_theta), (vel.angular + p.acc_lim_theta * dt).min(p.max_vel_theta));
         let mut best: Option<(f64, Twist)> = None;
-        let mut along = PathWindow::new(window, lg);
-        for i in 0..p.vx_samples.max(1) {
-            let v = if p.vx_samples <= 1 { v_hi } else { v_lo + (v_hi - v_lo) * i as f64 / (p.vx_samples - 1) as f64 };
-            for j in 0..p.vth_samples.max(1) {
-                let w = if p.vth_samples <= 1 { 0.0 } else { w_lo + (w_hi - w_lo) * j as f64 / (p.vth_samples - 1) as f64 };
-                let Some(score) = self.score(pose, v, w, cm, &mut along) else { continue };
+        let along = PathWindow::new(window, lg);
+        // A robot that already stands in the inscribed zone (a start close to furniture, the
+        // map's cells being coarser than the geometry) may move through it, never deeper; a
+        // footprint that already touches an obstacle may go on touching it while the centre
+        // gets no closer (its cost does not rise): turning in place, or moving away.
+        let start = (cm.cost_at(here), !self.footprint_clear(pose, cm));
+        let ws = velocity_samples(w_lo, w_hi, p.vth_samples);
+        for v in velocity_samples(v_lo, v_hi, p.vx_samples) {
+            for &w in &ws {
+                if !moves_enough(v, w, p.min_vel_trans, p.min_vel_theta) {
+                    continue;
+                }
+                let Some(score) = self.score(pose, v, w, cm, start, &along) else { continue };
                 if best.is_none_or(|b| score < b.0) {
                     best = Some((score, Twist { linear: v, angular: w }));
                 }
@@ -207,15 +234,17 @@ impl Dwa {
     }
 
     /// Cost of the rollout at (v, w): lower is better; `None` when it hits an obstacle.
-    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, along: &mut PathWindow<'_>) -> Option<f64> {
+    /// `start`: the cost at the robot's centre and whether its footprint touches an obstacle.
+    fn score(&self, pose: Pose2, v: f64, w: f64, cm: &Costmap, start: (u8, bool), along: &PathWindow<'_>) -> Option<f64> {
         let p = &self.params;
         let steps = ((v.abs() * p.sim_time / p.sim_granularity).max(w.abs() * p.sim_time / 0.1)).ceil().max(1.0) as usize;
         let dt = p.sim_time / steps as f64;
         let mut q = pose;
         let mut max_cost = 0u8;
-        // A robot that already stands in the inscribed zone (a start close to furniture, the
-        // map's cells being coarser than the geometry) may move through it, never deeper.
-        let start_cost = cm.cost_at(pose.position());
+        let (start_cost, start_touches) = start;
+        // A rollout that reaches the plan's end (within xy_goal_tolerance) ends there: the
+        // robot stops at it, so what lies beyond (a goal beside a wall) does not matter.
+        let end = self.plan.last().map(|g| g.position()).filter(|g| pose.position().dist(*g) <= v.abs() * p.sim_time + p.xy_goal_tolerance);
         // The heading's sine and cosine, worked out again only when it changes.
         let (mut yaw, (mut sy, mut cy)) = (q.yaw, q.yaw.sin_cos());
         for _ in 0..steps {
@@ -225,10 +254,13 @@ impl Dwa {
             }
             q = Pose2::new(q.x + v * cy * dt, q.y + v * sy * dt, normalize_angle(q.yaw + w * dt));
             let c = cm.cost_at(q.position());
-            if c >= LETHAL || (c >= INSCRIBED && c > start_cost) || !self.footprint_clear(q, cm) {
+            if c >= LETHAL || (c >= INSCRIBED && c > start_cost) || (!(start_touches && c <= start_cost) && !self.footprint_clear(q, cm)) {
                 return None;
             }
             max_cost = max_cost.max(c);
+            if end.is_some_and(|g| (q.x - g.x) * (q.x - g.x) + (q.y - g.y) * (q.y - g.y) <= p.xy_goal_tolerance * p.xy_goal_tolerance) {
+                break;
+            }
         }
         // Near the end of the plan the point ahead would overshoot: score the rollout's end.
         let near_end = self.plan.last().is_some_and(|g| pose.position().dist(g.position()) < 2.0 * p.forward_point_distance + p.xy_goal_tolerance);
@@ -236,12 +268,13 @@ impl Dwa {
         // The point ahead must not look through an obstacle (ROS scores on obstacle-aware grid
         // distances; ours are straight-line, so a blocked point ahead falls back to the end).
         let fp = if near_end || !crate::planner::segment_cost_ok(cm, q.position(), ahead, INSCRIBED) { q.position() } else { ahead };
-        // Distance to the path, and to the local goal along the path from the path point
-        // nearest to the scored point (not the straight line, which cuts corners).
-        let (near_i, path_d) = along.nearest(fp);
-        let goal_d = path_d + along.remaining(near_i) + along.end_to_goal;
+        // Both the rollout's end (the robot's centre: dwa_local_planner's path and goal costs)
+        // and the point ahead (its alignment and goal-front costs) are scored: the point ahead
+        // alone would let the centre cut inside corners, into the walls the path rounds.
+        let (end_path_d, end_goal_d) = along.distances(q.position());
+        let (path_d, goal_d) = if fp == q.position() { (end_path_d, end_goal_d) } else { along.distances(fp) };
         let res = cm.resolution;
-        Some(p.path_distance_bias * path_d / res + p.goal_distance_bias * goal_d / res + p.occdist_scale * max_cost as f64)
+        Some(p.path_distance_bias * (end_path_d + path_d) / res + p.goal_distance_bias * (end_goal_d + goal_d) / res + p.occdist_scale * max_cost as f64)
     }
 }
 
@@ -250,39 +283,90 @@ impl Dwa {
 /// same order as a single rollout does) and the end's distance to the local goal.
 struct PathWindow<'a> {
     points: &'a [Pose2],
-    remaining: Vec<Option<f64>>,
+    /// Per segment `i` (points `i` to `i + 1`): its start, direction, 1 / squared length
+    /// (0 for a zero-length segment) and length (m).
+    segments: Vec<(Point2, (f64, f64), f64, f64)>,
+    /// Path length from each point to the window's end (m).
+    remaining: Vec<f64>,
     end_to_goal: f64,
 }
 
 impl<'a> PathWindow<'a> {
     fn new(points: &'a [Pose2], lg: Point2) -> Self {
         let end_to_goal = lg.dist(points[points.len() - 1].position());
-        Self { points, remaining: vec![None; points.len()], end_to_goal }
+        let segments: Vec<_> = points
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0].position(), w[1].position());
+                let (dx, dy) = (b.x - a.x, b.y - a.y);
+                let l2 = dx * dx + dy * dy;
+                (a, (dx, dy), if l2 > 0.0 { 1.0 / l2 } else { 0.0 }, l2.sqrt())
+            })
+            .collect();
+        let mut remaining = vec![0.0; points.len()];
+        for i in (0..segments.len()).rev() {
+            remaining[i] = remaining[i + 1] + segments[i].3;
+        }
+        Self { points, segments, remaining, end_to_goal }
     }
 
-    /// The first point nearest to `fp` and its distance (m). Squared distances narrow the
-    /// candidates down to near-ties, which the exact distance settles in plan order.
-    fn nearest(&self, fp: Point2) -> (usize, f64) {
-        let sq = |a: &Pose2| (a.x - fp.x) * (a.x - fp.x) + (a.y - fp.y) * (a.y - fp.y);
-        let least = self.points.iter().map(sq).fold(f64::INFINITY, f64::min);
-        let (mut near_i, mut path_d) = (0, f64::INFINITY);
-        for (i, a) in self.points.iter().enumerate() {
-            if !(sq(a) <= least * (1.0 + 1e-9)) {
-                continue;
-            }
-            let d = a.position().dist(fp);
-            if d < path_d {
-                path_d = d;
-                near_i = i;
+    /// Distance from `p` to the path (its polyline, not only its points, which lie two cells
+    /// apart), and to the local goal along the path from the path's point nearest to `p` (not
+    /// the straight line, which cuts corners) (m). Ties go to the first segment in plan order.
+    /// Squared distances pick the segment; one square root per call.
+    fn distances(&self, p: Point2) -> (f64, f64) {
+        if self.segments.is_empty() {
+            let d = self.points[0].position().dist(p);
+            return (d, d + self.end_to_goal);
+        }
+        let (mut best_d2, mut best) = (f64::INFINITY, (0, 0.0));
+        for (i, &(a, (dx, dy), inv_l2, _)) in self.segments.iter().enumerate() {
+            let t = (((p.x - a.x) * dx + (p.y - a.y) * dy) * inv_l2).clamp(0.0, 1.0);
+            let (ex, ey) = (a.x + t * dx - p.x, a.y + t * dy - p.y);
+            let d2 = ex * ex + ey * ey;
+            if d2 < best_d2 {
+                (best_d2, best) = (d2, (i, t));
             }
         }
-        (near_i, path_d)
+        let (i, t) = best;
+        let d = best_d2.sqrt();
+        (d, d + (1.0 - t) * self.segments[i].3 + self.remaining[i + 1] + self.end_to_goal)
     }
+}
 
-    /// Path length from point `i` to the window's end (m).
-    fn remaining(&mut self, i: usize) -> f64 {
-        *self.remaining[i].get_or_insert_with(|| self.points[i..].windows(2).map(|w| w[0].position().dist(w[1].position())).sum())
+/// Velocity samples from `lo` to `hi` (base_local_planner's `VelocityIterator`): `lo` alone
+/// when the window is one velocity, else `n` (at least 2) evenly spaced ones from `lo` to
+/// `hi`, with a zero added between the last negative and the first positive one when the
+/// window spans zero without a sample on it.
+pub fn velocity_samples(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    if lo == hi {
+        return vec![lo];
     }
+    let n = n.max(2);
+    let step = (hi - lo) / (n - 1) as f64;
+    let mut out = Vec::with_capacity(n + 1);
+    let mut next = lo;
+    for _ in 0..n - 1 {
+        let current = next;
+        next += step;
+        out.push(current);
+        if current < 0.0 && next > 0.0 {
+            out.push(0.0);
+        }
+    }
+    // The last sample is `hi` itself, not the sum of the steps (no rounding past the limit).
+    out.push(hi);
+    out
+}
+
+/// Whether the sample (`v` m/s, `w` rad/s) moves: not standing still, and as fast as
+/// `min_trans` (m/s) or turning as fast as `min_theta` (rad/s) (base_local_planner's
+/// `SimpleTrajectoryGenerator`, with its 1e-4 slack).
+pub fn moves_enough(v: f64, w: f64, min_trans: f64, min_theta: f64) -> bool {
+    const EPS: f64 = 1e-4;
+    let still = v == 0.0 && w == 0.0;
+    let slow = v.abs() + EPS < min_trans && w.abs() + EPS < min_theta;
+    !still && !slow
 }
 
 #[cfg(test)]
@@ -340,6 +424,127 @@ mod tests {
         }
         // The wall is at x = 3.0: the nose (0.6 m ahead) must stay short of it.
         assert!(pose.x + 0.6 * pose.yaw.cos() < 3.0, "{pose:?}");
+    }
+
+    #[test]
+    fn velocity_samples_are_ross_with_zero_added() {
+        let check = |lo: f64, hi: f64, n: usize, want: &[f64]| {
+            let got = velocity_samples(lo, hi, n);
+            assert_eq!(got.len(), want.len(), "({lo}, {hi}, {n}): {got:?}");
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() < 1e-12, "({lo}, {hi}, {n}): {got:?}");
+            }
+        };
+        check(0.0, 0.25, 6, &[0.0, 0.05, 0.1, 0.15, 0.2, 0.25]);
+        check(0.3, 0.3, 6, &[0.3]);
+        // Fewer than two samples are two, and zero joins a window that spans it.
+        check(-0.1, 0.1, 1, &[-0.1, 0.0, 0.1]);
+        check(-0.3, 0.3, 4, &[-0.3, -0.1, 0.0, 0.1, 0.3]);
+        // TurtleBot3's DWA window at rest: 20 samples from -0.22 to 0.22, none of them zero
+        // but the one added (without it the slowest are +-0.0116 m/s, a creep).
+        let v = velocity_samples(-0.22, 0.22, 20);
+        assert_eq!((v.len(), v[0], v[20]), (21, -0.22, 0.22));
+        assert!(v.contains(&0.0) && v.windows(2).all(|w| w[0] < w[1]), "{v:?}");
+    }
+
+    #[test]
+    fn samples_slower_than_both_minimums_or_standing_still_are_left_out() {
+        let cases = [
+            // (v, w, min_vel_trans, min_vel_theta, moves)
+            (0.0, 0.0, 0.0, 0.0, false),
+            (0.0, 0.0, 0.1, 0.4, false),
+            (0.0116, 0.1, 0.1, 0.4, false),
+            (-0.05, -0.3, 0.1, 0.4, false),
+            (0.1, 0.0, 0.1, 0.4, true),
+            (-0.1, 0.0, 0.1, 0.4, true),
+            (0.0, 0.4, 0.1, 0.4, true),
+            (0.0, -0.39995, 0.1, 0.4, true),
+            (0.01, 0.0, 0.0, 0.0, true),
+        ];
+        for (v, w, mt, mr, moves) in cases {
+            assert_eq!(moves_enough(v, w, mt, mr), moves, "({v}, {w}) with minimums ({mt}, {mr})");
+        }
+    }
+
+    /// TurtleBot3 burger's DWA (its `dwa_local_planner_params_burger.yaml`, at 10 Hz).
+    fn burger() -> Dwa {
+        let params = DwaParams {
+            max_vel_x: 0.22,
+            min_vel_x: -0.22,
+            max_vel_trans: 0.22,
+            min_vel_trans: 0.11,
+            max_vel_theta: 2.75,
+            min_vel_theta: 1.37,
+            sim_time: 1.5,
+            vx_samples: 20,
+            goal_distance_bias: 20.0,
+            occdist_scale: 0.02,
+            xy_goal_tolerance: 0.05,
+            controller_period: 0.1,
+            ..DwaParams::default()
+        };
+        let mut d = Dwa::new(params);
+        d.footprint = vec![[-0.105, -0.105], [-0.105, 0.105], [0.041, 0.105], [0.041, -0.105]];
+        d
+    }
+
+    /// A 5 x 5 m room with a 1 x 1 m block at x, y in [2, 3] and TurtleBot3's inflation (its
+    /// footprint's inscribed radius, 0.041 m; 0.2 m, 10 / m).
+    fn block() -> Costmap {
+        let mut m = OccupancyGrid::new(100, 100, 0.05, Pose2::default(), 0);
+        for r in 40..60 {
+            for c in 40..60 {
+                m.set(c, r, 100);
+            }
+        }
+        let p = CostmapParams { robot_radius: 0.041, inflation_radius: 0.2, cost_scaling_factor: 10.0, ..CostmapParams::default() };
+        Costmap::from_map(&m, &p)
+    }
+
+    fn drive(pose: Pose2, t: Twist, dt: f64) -> Pose2 {
+        Pose2::new(pose.x + t.linear * pose.yaw.cos() * dt, pose.y + t.linear * pose.yaw.sin() * dt, normalize_angle(pose.yaw + t.angular * dt))
+    }
+
+    #[test]
+    fn a_footprint_touching_a_wall_at_the_start_gets_away_from_it() {
+        // The burger beside the block, facing along it, its centre 0.08 m from the block's
+        // edge (a start placed by a round radius, cells coarser than the geometry): its left
+        // side lies on the block's cells, so every rollout touched it and none was valid. It
+        // may turn and move, never closer.
+        let cm = block();
+        let mut d = burger();
+        let start = Pose2::new(2.5, 1.92, 0.0);
+        assert!(!d.footprint_clear(start, &cm));
+        d.set_plan(&straight(Point2::new(2.5, 1.92), Point2::new(4.5, 1.0)));
+        let start_cost = cm.cost_at(start.position());
+        let (mut pose, mut vel) = (start, Twist::default());
+        for _ in 0..50 {
+            let t = d.compute_velocity(pose, vel, &cm).unwrap_or_else(|e| panic!("{e} at {pose:?}"));
+            vel = t;
+            pose = drive(pose, t, 0.1);
+            if d.footprint_clear(pose, &cm) {
+                break;
+            }
+            assert!(cm.cost_at(pose.position()) <= start_cost, "closer to the block at {pose:?}");
+        }
+        assert!(d.footprint_clear(pose, &cm), "still touching at {pose:?}");
+    }
+
+    #[test]
+    fn distances_are_to_the_path_between_its_points_too() {
+        // Points 0.1 m apart along y = 1; the local goal 0.5 m past the window's end.
+        let plan: Vec<Pose2> = (0..=10).map(|k| Pose2::new(1.0 + 0.1 * k as f64, 1.0, 0.0)).collect();
+        let w = PathWindow::new(&plan, Point2::new(2.5, 1.0));
+        let check = |w: &PathWindow<'_>, p: Point2, want: (f64, f64)| {
+            let got = w.distances(p);
+            assert!((got.0 - want.0).abs() < 1e-9 && (got.1 - want.1).abs() < 1e-9, "{p:?}: {got:?} vs {want:?}");
+        };
+        // Halfway between two points: on the path, 0.95 m + 0.5 m from the local goal.
+        check(&w, Point2::new(1.05, 1.0), (0.0, 1.45));
+        check(&w, Point2::new(1.55, 1.2), (0.2, 0.2 + 0.45 + 0.5));
+        // Off the ends: to the end points.
+        check(&w, Point2::new(0.7, 1.4), (0.5, 0.5 + 1.0 + 0.5));
+        check(&w, Point2::new(2.3, 1.0), (0.3, 0.3 + 0.5));
     }
 
     #[test]

@@ -38,6 +38,8 @@ pub struct LayeredCostmap {
     /// Cells whose mark flipped since `master` was last brought up to date.
     pending: DirtyBounds,
     local: LocalCache,
+    /// Changes whenever a cost of `master` may have changed.
+    version: u64,
 }
 
 /// The local region last computed: costs over `region` (global cell coordinates, possibly
@@ -78,6 +80,7 @@ impl LayeredCostmap {
             obstacles: None,
             pending: DirtyBounds::default(),
             local: LocalCache::default(),
+            version: 0,
         }
     }
 
@@ -106,6 +109,7 @@ impl LayeredCostmap {
     pub fn clear_obstacles(&mut self) {
         if self.obstacles.take().is_some() {
             self.master.cost.copy_from_slice(&self.static_layer.cost);
+            self.version += 1;
         }
         self.pending = DirtyBounds::default();
         self.local.valid = false;
@@ -126,11 +130,18 @@ impl LayeredCostmap {
         &self.master
     }
 
+    /// The global costmap's version: the same number means the same costs (for one
+    /// `LayeredCostmap`).
+    pub fn global_version(&self) -> u64 {
+        self.version
+    }
+
     /// Brings the global costmap up to date with the marks, re-inflating only around the
     /// cells whose mark changed.
     pub fn update_global(&mut self) {
         let Some(changed) = self.pending.take() else { return };
         let Some(ob) = self.obstacles.as_ref() else { return };
+        self.version += 1;
         let (w, h) = (self.master.width, self.master.height);
         let reach = self.global_table.reach();
         let region = changed.expanded(reach, w, h);

@@ -6,7 +6,7 @@ use crate::layered_costmap::LayeredCostmap;
 use crate::obstacle_layer::ObstacleParams;
 use crate::dwa::{Dwa, DwaParams};
 use crate::goal_approach::{approach_command, goal_check, round_footprint, GoalApproachParams, GoalCheck};
-use crate::planner::{plan_with, PlanError, PlanScratch, PlannerParams};
+use crate::planner::{plan_on_version, PlanError, PlanScratch, PlannerParams};
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, Twist};
 
@@ -206,6 +206,7 @@ impl Navigator {
     pub fn set_map(&mut self, map: &OccupancyGrid) {
         let p = &self.params;
         self.layers = Some(LayeredCostmap::new(map, &p.global_costmap, &p.local_costmap, p.obstacle_layer.clone()));
+        self.scratch.forget_search();
     }
 
     /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
@@ -298,7 +299,7 @@ impl Navigator {
         if self.status == NavStatus::Planning || replan_due || self.plan.is_empty() {
             let Some(layers) = self.layers.as_mut() else { return stop(NavStatus::Idle) };
             layers.update_global();
-            match plan_with(&mut self.scratch, layers.global(), here, goal, &self.params.planner) {
+            match plan_on_version(&mut self.scratch, layers.global(), Some(layers.global_version()), here, goal, &self.params.planner) {
                 Ok(p) => {
                     self.plan = p;
                     self.dwa.set_plan(&self.plan);
@@ -516,6 +517,78 @@ mod tests {
         (nav.status(), pose)
     }
 
+    /// TurtleBot3 burger's own ROS parameters (`turtlebot3_navigation/param`, as its
+    /// move_base.launch layers them; old DWA names read as the new ones).
+    fn burger_params() -> NavParams {
+        let mut p = NavParams::default();
+        let footprint = vec![[-0.105, -0.105], [-0.105, 0.105], [0.041, 0.105], [0.041, -0.105]];
+        for c in [&mut p.global_costmap, &mut p.local_costmap] {
+            (c.footprint, c.inflation_radius, c.cost_scaling_factor) = (footprint.clone(), 0.2, 10.0);
+        }
+        p.obstacle_layer.local_window = 3.0;
+        let mb = &mut p.move_base;
+        (mb.planner_frequency, mb.controller_patience, mb.oscillation_timeout, mb.oscillation_distance) = (0.0, 15.0, 10.0, 0.2);
+        p.dwa = crate::dwa::DwaParams {
+            max_vel_x: 0.22,
+            min_vel_x: -0.22,
+            max_vel_trans: 0.22,
+            min_vel_trans: 0.11,
+            max_vel_theta: 2.75,
+            min_vel_theta: 1.37,
+            acc_lim_x: 2.5,
+            acc_lim_theta: 3.2,
+            xy_goal_tolerance: 0.05,
+            sim_time: 1.5,
+            vx_samples: 20,
+            path_distance_bias: 32.0,
+            goal_distance_bias: 20.0,
+            occdist_scale: 0.02,
+            forward_point_distance: 0.325,
+            controller_period: 0.1,
+            ..Default::default()
+        };
+        p
+    }
+
+    /// Runs `nav` on `map` at its controller period, the robot doing what it is told.
+    fn simulate_at_period(nav: &mut Navigator, map: &OccupancyGrid, start: Pose2, goal: Point2, limit_s: f64) -> (NavStatus, Pose2) {
+        nav.set_map(map);
+        nav.set_goal(goal, 0.0);
+        let dt = nav.params.dwa.controller_period;
+        let (mut pose, mut vel) = (start, Twist::default());
+        for k in 0..(limit_s / dt) as usize {
+            let cmd = nav.tick(k as f64 * dt, pose, vel);
+            if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
+                return (cmd.status, pose);
+            }
+            vel = cmd.twist;
+            pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+        }
+        (nav.status(), pose)
+    }
+
+    #[test]
+    fn issue_22_turtlebot3_parameters_go_through_a_door_and_round_its_jamb() {
+        // A 6 x 6 m room split by a wall at y = 3 with a 0.65 m door at x = 3: from below the
+        // door to beside it above, the path goes through and turns hard round the jamb. With
+        // TurtleBot3's own parameters (inflation 0.2 m from a 0.041 m inscribed radius, DWA
+        // backing up to -0.22 m/s in 20 samples at 10 Hz), the robot used to creep and dither
+        // at the jamb until it gave up with no_progress.
+        let mut m = room(false, false);
+        for r in 60..63 {
+            for c in 1..99 {
+                if !(60..73).contains(&c) {
+                    m.set(c, r, 100);
+                }
+            }
+        }
+        let mut nav = Navigator::new(burger_params());
+        let goal = Point2::new(1.0, 3.5);
+        let (s, p) = simulate_at_period(&mut nav, &m, Pose2::new(3.3, 1.5, std::f64::consts::FRAC_PI_2), goal, 120.0);
+        assert_eq!(s, NavStatus::Succeeded, "{p:?} {:?}", nav.abort_reason());
+        assert!(p.position().dist(goal) <= 0.05, "{p:?}");
+    }
+
     #[test]
     fn reaches_a_goal_the_inflation_blocks_on_its_footprint() {
         // A wall 0.4 m thick at x = 2.3 .. 2.7 with a passage four cells (0.2 m) wide: a goal
@@ -547,12 +620,12 @@ mod tests {
         let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 60.0, 0.02);
         assert_eq!(s, NavStatus::Succeeded);
         let d_sure = p.position().dist(goal);
-        // Less sure (0.06 m spread): drives in until 0.2 - 2 * 0.06 = 0.08 m from the goal.
+        // Less sure (0.065 m spread): drives in until 0.2 - 2 * 0.065 = 0.07 m from the goal.
         let mut nav = Navigator::new(params.clone());
-        let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 60.0, 0.06);
+        let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 60.0, 0.065);
         assert_eq!(s, NavStatus::Succeeded);
         let d = p.position().dist(goal);
-        assert!(d < 0.08 && d < d_sure, "{d} vs {d_sure}");
+        assert!(d < 0.07 && d < d_sure, "{d} vs {d_sure}");
         // Unsure (0.09 m spread): drives in to refine_distance, turns, and stops only when out of time.
         let mut nav = Navigator::new(params.clone());
         let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 90.0, 0.09);

@@ -65,9 +65,28 @@ pub struct PlanScratch {
     stamp: Vec<u32>,
     generation: u32,
     heap: BinaryHeap<Reverse<(u64, u32)>>,
+    /// The last search's cells, for [`plan_on_version`]: found on costmap `version` from
+    /// cell `s` to cell `g` (the goal's own cell `gi`) with the parameters `params`.
+    memo: Option<SearchMemo>,
+}
+
+/// A search's result and what it depended on.
+#[derive(Debug, Clone)]
+struct SearchMemo {
+    version: u64,
+    size: (usize, usize),
+    s: usize,
+    g: usize,
+    params: PlannerParams,
+    cells: Vec<usize>,
 }
 
 impl PlanScratch {
+    /// Forgets the last search (its costmap versions no longer apply: a new map).
+    pub fn forget_search(&mut self) {
+        self.memo = None;
+    }
+
     /// Starts a search over `n` cells: every distance infinite.
     fn reset(&mut self, n: usize) {
         if self.stamp.len() != n || self.generation == u32::MAX {
@@ -104,13 +123,43 @@ pub fn plan(cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Res
 
 /// [`plan`] with working memory kept from earlier plans (the same result).
 pub fn plan_with(scratch: &mut PlanScratch, cm: &Costmap, start: Point2, goal: Point2, p: &PlannerParams) -> Result<Vec<Pose2>, PlanError> {
+    plan_on_version(scratch, cm, None, start, goal, p)
+}
+
+/// [`plan_with`] on a costmap whose costs are those of `version` (the caller's counter, changed
+/// whenever any cost changes): a search between the same cells on the same version is not run
+/// again (the same result; move_base replans on every controller failure, and a robot that
+/// stands still asks for the same search many times).
+pub fn plan_on_version(scratch: &mut PlanScratch, cm: &Costmap, version: Option<u64>, start: Point2, goal: Point2, p: &PlannerParams) -> Result<Vec<Pose2>, PlanError> {
     let (w, h) = (cm.width, cm.height);
-    let free = |i: usize| cm.cost[i] < INSCRIBED;
     let (sc, sr) = cm.cell(start).ok_or(PlanError::StartOutsideMap)?;
     let (gc, gr) = cm.cell(goal).ok_or(PlanError::GoalOutsideMap)?;
     let s = nearest_free(cm, sr * w + sc, 0.35).ok_or(PlanError::StartOccupied)?;
     let g = nearest_free(cm, gr * w + gc, p.default_tolerance).ok_or(PlanError::GoalOccupied)?;
     let gpos = cm.center(g % w, g / w);
+    let memo_hit = |m: &SearchMemo| Some(m.version) == version && m.size == (w, h) && (m.s, m.g) == (s, g) && m.params == *p;
+    let cells = match scratch.memo.as_ref().filter(|m| memo_hit(m)) {
+        Some(m) => m.cells.clone(),
+        None => {
+            let cells = search(scratch, cm, s, g, gpos, p)?;
+            scratch.memo = version.map(|version| SearchMemo { version, size: (w, h), s, g, params: p.clone(), cells: cells.clone() });
+            cells
+        }
+    };
+    let mut pts: Vec<Point2> = cells.iter().map(|&i| cm.center(i % w, i / w)).collect();
+    pts[0] = start;
+    if g == gr * w + gc {
+        *pts.last_mut().unwrap_or(&mut Point2::default()) = goal;
+    }
+    let pts = string_pull(cm, &pts, p.smooth_max_cost);
+    Ok(with_headings(&densify(&pts, cm.resolution * 2.0)))
+}
+
+/// A* (or Dijkstra without `use_astar`) over the costmap's cells from cell `s` to cell `g`
+/// (centred at `gpos`): the cells of the cheapest path, `s` first.
+fn search(scratch: &mut PlanScratch, cm: &Costmap, s: usize, g: usize, gpos: Point2, p: &PlannerParams) -> Result<Vec<usize>, PlanError> {
+    let (w, h) = (cm.width, cm.height);
+    let free = |i: usize| cm.cost[i] < INSCRIBED;
     let heur = |i: usize| if p.use_astar { cm.center(i % w, i / w).dist(gpos) / cm.resolution } else { 0.0 };
     scratch.reset(w * h);
     let sc = scratch;
@@ -153,13 +202,7 @@ pub fn plan_with(scratch: &mut PlanScratch, cm: &Costmap, start: Point2, goal: P
         cells.push(sc.prev[last] as usize);
     }
     cells.reverse();
-    let mut pts: Vec<Point2> = cells.iter().map(|&i| cm.center(i % w, i / w)).collect();
-    pts[0] = start;
-    if g == gr * w + gc {
-        *pts.last_mut().unwrap_or(&mut Point2::default()) = goal;
-    }
-    let pts = string_pull(cm, &pts, p.smooth_max_cost);
-    Ok(with_headings(&densify(&pts, cm.resolution * 2.0)))
+    Ok(cells)
 }
 
 /// The nearest cell cheaper than INSCRIBED within `tol` (m) of cell `i` (breadth first).
@@ -195,6 +238,10 @@ pub fn segment_cost_ok(cm: &Costmap, a: Point2, b: Point2, max_cost: u8) -> bool
 }
 
 /// Greedy string pulling: from each kept point, jump to the farthest point in cheap sight.
+/// A leg never crosses a cell as costly as `max_cost`, not even from a costly point: from a
+/// start (or a goal) near a wall the path keeps the search's cells, which leave the costly band
+/// down its gradient, rather than a straight leg that runs along the wall at the start's cost
+/// (where a footprint wider than the inscribed radius rubs it the whole way).
 fn string_pull(cm: &Costmap, pts: &[Point2], max_cost: u8) -> Vec<Point2> {
     if pts.len() <= 2 {
         return pts.to_vec();
@@ -203,10 +250,11 @@ fn string_pull(cm: &Costmap, pts: &[Point2], max_cost: u8) -> Vec<Point2> {
     let mut i = 0;
     while i < pts.len() - 1 {
         let mut j = i + 1;
-        let mut k = pts.len() - 1;
+        // A leg from a point as costly as `max_cost` fails at its first cell: keep the next.
+        let mut k = if cm.cost_at(pts[i]) >= max_cost { i + 1 } else { pts.len() - 1 };
         // Farthest visible point, scanning back from the end (paths are short; fine).
         while k > i + 1 {
-            if segment_cost_ok(cm, pts[i], pts[k], max_cost.max(cm.cost_at(pts[i]).saturating_add(1))) {
+            if segment_cost_ok(cm, pts[i], pts[k], max_cost) {
                 j = k;
                 break;
             }
@@ -248,7 +296,7 @@ pub fn path_length(path: &[Pose2]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::costmap::CostmapParams;
+    use crate::costmap::{CostmapParams, LETHAL};
     use xhab_types::OccupancyGrid;
 
     /// A 4 x 4 m room split by a wall at x = 2 with a gap at y in [3, 3.6].
@@ -299,6 +347,55 @@ mod tests {
         let small = Costmap::from_map(&OccupancyGrid::new(30, 20, 0.05, Pose2::default(), 0), &CostmapParams::default());
         let (a, b) = (Point2::new(0.2, 0.2), Point2::new(1.3, 0.8));
         assert_eq!(plan_with(&mut scratch, &small, a, b, &PlannerParams::default()), plan(&small, a, b, &PlannerParams::default()));
+    }
+
+    #[test]
+    fn a_start_and_goal_beside_a_wall_get_a_path_that_leaves_it_between_them() {
+        // A long wall at y = 2 (rows 40-41); start and goal 0.15 m below it, 3 m apart, where
+        // the default inflation costs 152. A straight leg at the start's cost used to hug the
+        // wall all the way; the path now leaves the costly band (cost < smooth_max_cost) in
+        // between, as the search's cells do.
+        let mut m = OccupancyGrid::new(100, 80, 0.05, Pose2::default(), 0);
+        for c in 0..100 {
+            m.set(c, 40, 100);
+            m.set(c, 41, 100);
+        }
+        let cm = Costmap::from_map(&m, &CostmapParams::default());
+        let (s, g) = (Point2::new(1.0, 1.85), Point2::new(4.0, 1.85));
+        let p = PlannerParams::default();
+        assert!(cm.cost_at(s) > p.smooth_max_cost && cm.cost_at(g) > p.smooth_max_cost);
+        let path = plan(&cm, s, g, &p).unwrap();
+        let middle: Vec<&Pose2> = path.iter().filter(|q| q.x > 1.8 && q.x < 3.2).collect();
+        assert!(!middle.is_empty() && middle.iter().all(|q| cm.cost_at(q.position()) < p.smooth_max_cost), "{path:?}");
+        assert!(path_length(&path) < 3.0 * 1.15, "{path:?}");
+    }
+
+    #[test]
+    fn a_remembered_search_gives_the_plan_a_new_search_gives() {
+        let mut m = OccupancyGrid::new(100, 80, 0.05, Pose2::default(), 0);
+        for r in 10..70 {
+            m.set(50, r, 100);
+        }
+        let p = PlannerParams::default();
+        let mut cm = Costmap::from_map(&m, &CostmapParams::default());
+        let mut scratch = PlanScratch::default();
+        let goal = Point2::new(4.0, 2.0);
+        // The same version: the search is remembered, and each start's plan is still its own.
+        for start in [Point2::new(1.0, 2.0), Point2::new(1.01, 2.02), Point2::new(1.5, 1.0)] {
+            let got = plan_on_version(&mut scratch, &cm, Some(7), start, goal, &p).unwrap();
+            assert_eq!(got, plan(&cm, start, goal, &p).unwrap(), "{start:?}");
+        }
+        assert!(scratch.memo.is_some());
+        // A wall across the way on a new version: the remembered search is not used.
+        for c in 0..100 {
+            let i = 40 * cm.width + c;
+            if c != 20 {
+                cm.cost[i] = LETHAL;
+            }
+        }
+        let start = Point2::new(1.5, 1.0);
+        let got = plan_on_version(&mut scratch, &cm, Some(8), start, goal, &p);
+        assert_eq!(got, plan(&cm, start, goal, &p));
     }
 
     #[test]

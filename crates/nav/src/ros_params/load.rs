@@ -483,7 +483,9 @@ impl<'a> Loader<'a> {
         self.set_f64(&mut d.xy_goal_tolerance, &[k("xy_goal_tolerance")])?;
         if ns == "DWAPlannerROS" {
             self.set_f64(&mut d.max_vel_trans, &[k("max_vel_trans"), k("max_trans_vel")])?;
+            self.set_f64(&mut d.min_vel_trans, &[k("min_vel_trans"), k("min_trans_vel")])?;
             self.set_f64(&mut d.max_vel_theta, &[k("max_vel_theta"), k("max_rot_vel")])?;
+            self.set_f64(&mut d.min_vel_theta, &[k("min_vel_theta"), k("min_rot_vel")])?;
             self.set_int(&mut d.vth_samples, &[k("vth_samples")])?;
             self.set_f64(&mut d.path_distance_bias, &[k("path_distance_bias")])?;
             self.set_f64(&mut d.goal_distance_bias, &[k("goal_distance_bias")])?;

@@ -208,13 +208,13 @@ const OBSERVATION_SOURCE: &[ParamSpec] = &[
 const DWA: &[ParamSpec] = &[
     // base_local_planner's LocalPlannerLimits, shared by the local planners.
     p("max_vel_trans", F0, "0.55", U),
-    p("min_vel_trans", F0, "0.1", I),
+    p("min_vel_trans", F0, "0.1", U),
     p("max_vel_x", F0, "0.55", U),
     p("min_vel_x", F, "0.0", U),
     p("max_vel_y", F, "0.1", I),
     p("min_vel_y", F, "-0.1", I),
     p("max_vel_theta", F0, "1.0", U),
-    p("min_vel_theta", F0, "0.4", I),
+    p("min_vel_theta", F0, "0.4", U),
     p("acc_lim_x", F0, "2.5", U),
     p("acc_lim_y", F0, "2.5", I),
     p("acc_lim_theta", F0, "3.2", U),

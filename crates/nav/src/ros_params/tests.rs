@@ -71,6 +71,8 @@ fn each_implemented_name_takes_effect() {
         ("DWAPlannerROS/min_vel_x: -0.1", |p| p.dwa.min_vel_x, -0.1),
         ("DWAPlannerROS/max_vel_trans: 0.3", |p| p.dwa.max_vel_trans, 0.3),
         ("DWAPlannerROS/max_vel_theta: 2.0", |p| p.dwa.max_vel_theta, 2.0),
+        ("DWAPlannerROS/min_vel_trans: 0.05", |p| p.dwa.min_vel_trans, 0.05),
+        ("DWAPlannerROS/min_vel_theta: 0.2", |p| p.dwa.min_vel_theta, 0.2),
         ("DWAPlannerROS/acc_lim_x: 1.0", |p| p.dwa.acc_lim_x, 1.0),
         ("DWAPlannerROS/acc_lim_theta: 2.0", |p| p.dwa.acc_lim_theta, 2.0),
         ("DWAPlannerROS/sim_time: 1.5", |p| p.dwa.sim_time, 1.5),
@@ -245,14 +247,15 @@ fn unknown_keys_get_the_nearest_known_name() {
 #[test]
 fn old_names_are_read_with_a_warning_and_ignored_names_are_listed_once() {
     let l = ok("DWAPlannerROS: {max_trans_vel: 0.22, max_rot_vel: 2.75, min_rot_vel: 1.37}\nshutdown_costmaps: false\nglobal_costmap: {global_frame: map, update_frequency: 10.0}\nrotate_recovery/frequency: 20\n");
-    assert_eq!((l.params.dwa.max_vel_trans, l.params.dwa.max_vel_theta), (0.22, 2.75));
+    assert_eq!((l.params.dwa.max_vel_trans, l.params.dwa.max_vel_theta, l.params.dwa.min_vel_theta), (0.22, 2.75, 1.37));
     assert_eq!(l.warnings[0], "f0.yaml: DWAPlannerROS/max_trans_vel: old name of `max_vel_trans` (noetic warns and no longer reads it), read as `max_vel_trans`");
     assert!(l.warnings[1].contains("max_rot_vel") && l.warnings[1].contains("max_vel_theta"));
+    assert!(l.warnings[2].contains("min_rot_vel") && l.warnings[2].contains("min_vel_theta"));
     assert_eq!(
-        l.warnings[2],
-        "5 ROS parameter(s) without effect in xhab (not implemented, or overridden): DWAPlannerROS/min_rot_vel, shutdown_costmaps, global_costmap/global_frame, global_costmap/update_frequency, rotate_recovery/frequency"
+        l.warnings[3],
+        "4 ROS parameter(s) without effect in xhab (not implemented, or overridden): shutdown_costmaps, global_costmap/global_frame, global_costmap/update_frequency, rotate_recovery/frequency"
     );
-    assert_eq!(l.warnings.len(), 3);
+    assert_eq!(l.warnings.len(), 4);
 }
 
 #[test]
