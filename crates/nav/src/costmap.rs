@@ -106,8 +106,10 @@ pub fn inflation_cost(d: f64, p: &CostmapParams) -> u8 {
 }
 
 impl Costmap {
-    /// The static layer of `map` inflated (the map must not be rotated: origin yaw 0).
+    /// The static layer of `map` inflated (a rotated map is first turned into the world's
+    /// axes: [`OccupancyGrid::axis_aligned`]).
     pub fn from_map(map: &OccupancyGrid, p: &CostmapParams) -> Costmap {
+        let map = &*map.axis_aligned();
         let (w, h) = (map.width, map.height);
         let lethal: Vec<bool> = map.data.iter().map(|&v| v >= p.lethal_cost_threshold).collect();
         let d = edt(&lethal, w, h);
@@ -223,6 +225,29 @@ fn dt1d(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
 mod tests {
     use super::*;
     use xhab_types::Pose2;
+
+    #[test]
+    fn a_rotated_map_puts_its_walls_where_the_map_has_them() {
+        // Issue 20: the origin's yaw used to be dropped, so a turned map's walls landed where
+        // the unturned map has them. A wall along the map's column 30, the map turned by 90
+        // degrees about (1, -2): the wall runs along the world's x at y = -2 + 30.5 * 0.05.
+        let mut m = OccupancyGrid::new(40, 40, 0.05, Pose2::new(1.0, -2.0, std::f64::consts::FRAC_PI_2), 0);
+        for r in 0..40 {
+            m.set(30, r, 100);
+        }
+        let (both, layered) = (CostmapParams::default(), crate::layered_costmap::LayeredCostmap::new(&m, &CostmapParams::default(), &CostmapParams::default(), Default::default()));
+        for cm in [Costmap::from_map(&m, &both), layered.global().clone()] {
+            for k in 0..40 {
+                let wall = m.cell_center(30, k);
+                assert_eq!(cm.cost_at(wall), LETHAL, "{wall:?}");
+                // The wall is a line along x at y = -0.475 (the map's x is the world's y).
+                assert!((wall.y - -0.475).abs() < 1e-9, "{wall:?}");
+                // 0.5 m to its side, inside the map: free.
+                let beside = Point2::new(wall.x, wall.y - 0.5);
+                assert!(cm.cost_at(beside) < INSCRIBED, "{beside:?}");
+            }
+        }
+    }
 
     #[test]
     fn inflation_follows_the_ros_formula() {

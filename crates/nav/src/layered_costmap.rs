@@ -57,9 +57,11 @@ struct LocalCache {
 }
 
 impl LayeredCostmap {
-    /// The costmaps of `map` (not rotated: origin yaw 0) with the global and local costmaps'
-    /// parameters; no marks yet.
+    /// The costmaps of `map` (a rotated map first turned into the world's axes:
+    /// [`OccupancyGrid::axis_aligned`]) with the global and local costmaps' parameters; no
+    /// marks yet.
     pub fn new(map: &OccupancyGrid, global: &CostmapParams, local: &CostmapParams, obstacle_params: ObstacleParams) -> Self {
+        let map = &*map.axis_aligned();
         let (w, h) = (map.width, map.height);
         let global_table = InflationTable::new(global, map.resolution);
         let local_table = InflationTable::new(local, map.resolution);

@@ -2,6 +2,7 @@
 
 use crate::{Point2, Pose2};
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// Cell value of a free cell (nav_msgs/OccupancyGrid).
 pub const GRID_FREE: i8 = 0;
@@ -53,5 +54,80 @@ impl OccupancyGrid {
             return None;
         }
         Some((c as usize, r as usize))
+    }
+
+    /// The grid in the world's axes: itself when its origin is not rotated (yaw 0), else a
+    /// grid of the same resolution over the rotated grid's bounding box whose cells take the
+    /// value under their centre (unknown outside it). The costmaps and AMCL index cells by
+    /// plain arithmetic, so a rotated map (map_server's origin yaw) goes through this first.
+    pub fn axis_aligned(&self) -> Cow<'_, OccupancyGrid> {
+        if self.origin.yaw == 0.0 || self.width == 0 || self.height == 0 {
+            return Cow::Borrowed(self);
+        }
+        let (w, h) = (self.width as f64 * self.resolution, self.height as f64 * self.resolution);
+        let corners = [(0.0, 0.0), (w, 0.0), (0.0, h), (w, h)].map(|(x, y)| self.origin.compose(Pose2::new(x, y, 0.0)).position());
+        let lo = Point2::new(corners.iter().map(|p| p.x).fold(f64::INFINITY, f64::min), corners.iter().map(|p| p.y).fold(f64::INFINITY, f64::min));
+        let hi = Point2::new(corners.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max), corners.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max));
+        // Cells whose centres lie within the box (a hair's slack for multiples of 90 degrees).
+        let cells = |span: f64| ((span / self.resolution) - 1e-9).ceil().max(1.0) as usize;
+        let (nw, nh) = (cells(hi.x - lo.x), cells(hi.y - lo.y));
+        let mut out = OccupancyGrid::new(nw, nh, self.resolution, Pose2::new(lo.x, lo.y, 0.0), GRID_UNKNOWN);
+        for r in 0..nh {
+            for c in 0..nw {
+                let p = out.cell_center(c, r);
+                if let Some((sc, sr)) = self.world_to_cell(p) {
+                    out.data[r * nw + c] = self.get(sc, sr);
+                }
+            }
+        }
+        Cow::Owned(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rotated_grid_keeps_its_values_where_they_are_in_the_world() {
+        // 40 x 20 cells, an occupied column at col 30 and a free rest, turned by 90 and by 30
+        // degrees about an origin off zero.
+        for yaw in [std::f64::consts::FRAC_PI_2, 30f64.to_radians(), -2.0] {
+            let mut g = OccupancyGrid::new(40, 20, 0.05, Pose2::new(1.0, -2.0, yaw), GRID_FREE);
+            for r in 0..20 {
+                g.set(30, r, GRID_OCCUPIED);
+            }
+            let a = g.axis_aligned();
+            assert_eq!(a.origin.yaw, 0.0);
+            // Every cell of the original, seen at its centre, has its value in the new grid.
+            let mut same = 0;
+            for r in 0..20 {
+                for c in 0..40 {
+                    let p = g.cell_center(c, r);
+                    let (ac, ar) = a.world_to_cell(p).expect("inside the box");
+                    same += usize::from(a.get(ac, ar) == g.get(c, r));
+                }
+            }
+            // Nearest-cell resampling of a turned grid: all but a few cells on the column's edges.
+            assert!(same >= 800 - 40, "yaw {yaw}: {same} of 800");
+            // Outside the turned grid, inside the box: unknown.
+            assert!(a.data.contains(&GRID_UNKNOWN) || yaw == std::f64::consts::FRAC_PI_2);
+        }
+        let flat = OccupancyGrid::new(3, 2, 0.1, Pose2::new(1.0, 1.0, 0.0), GRID_FREE);
+        assert!(matches!(flat.axis_aligned(), Cow::Borrowed(_)));
+    }
+
+    #[test]
+    fn a_quarter_turn_is_exact() {
+        let mut g = OccupancyGrid::new(4, 2, 1.0, Pose2::new(0.0, 0.0, std::f64::consts::FRAC_PI_2), GRID_FREE);
+        g.set(3, 0, GRID_OCCUPIED);
+        let a = g.axis_aligned();
+        assert_eq!((a.width, a.height), (2, 4));
+        // Cell (3, 0) spans x 3..4 along the grid's x, which is the world's y; its y 0..1 runs
+        // along the world's -x: world x -1..0, y 3..4.
+        let (c, r) = a.world_to_cell(Point2::new(-0.5, 3.5)).unwrap();
+        assert_eq!(a.get(c, r), GRID_OCCUPIED);
+        assert_eq!(a.data.iter().filter(|&&v| v == GRID_OCCUPIED).count(), 1);
+        assert!(!a.data.contains(&GRID_UNKNOWN));
     }
 }

@@ -9,7 +9,8 @@
 //! - `beam`: each beam's range is compared with the range ray-cast in the map from the
 //!   particle (hit, short, max and random parts), combined as `1 + sum(pz^3)`.
 //!
-//! Maps have origin yaw 0, so cells come from plain arithmetic. Beams without a return (NaN)
+//! Maps have origin yaw 0 ([`Amcl::new`](super::Amcl::new) turns a rotated one into the
+//! world's axes), so cells come from plain arithmetic. Beams without a return (NaN)
 //! are skipped by the likelihood-field models and read as `range_max` by the beam model.
 
 use super::AmclParams;

@@ -184,8 +184,10 @@ fn kld_limit(k: usize, kld_err: f64, z: f64, max: usize) -> usize {
 }
 
 impl Amcl {
-    /// A filter on `map` (origin yaw 0), seeded; call [`Amcl::init`] or [`Amcl::global_init`].
+    /// A filter on `map` (a rotated map first turned into the world's axes:
+    /// [`OccupancyGrid::axis_aligned`]), seeded; call [`Amcl::init`] or [`Amcl::global_init`].
     pub fn new(map: &OccupancyGrid, params: AmclParams, seed: u64) -> Self {
+        let map = &*map.axis_aligned();
         let laser = LaserModel::new(map, &params);
         let free_cells = (0..map.data.len()).filter(|&i| map.data[i] == GRID_FREE).collect();
         Self { params, map: map.clone(), laser, free_cells, particles: Vec::new(), rng: ChaCha8Rng::seed_from_u64(seed), last_odom: None, updates: 0, w_slow: 0.0, w_fast: 0.0 }
