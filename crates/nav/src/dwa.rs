@@ -422,8 +422,10 @@ mod tests {
             vel = t;
             pose = Pose2::new(pose.x + t.linear * pose.yaw.cos() * 0.05, pose.y + t.linear * pose.yaw.sin() * 0.05, pose.yaw + t.angular * 0.05);
         }
-        // The wall is at x = 3.0: the nose (0.6 m ahead) must stay short of it.
+        // The wall is at x = 3.0: the nose (0.6 m ahead) must stay short of it, and the robot
+        // must have driven towards it (not failed at once).
         assert!(pose.x + 0.6 * pose.yaw.cos() < 3.0, "{pose:?}");
+        assert!(pose.x > 2.1, "{pose:?}");
     }
 
     #[test]
@@ -565,5 +567,7 @@ mod tests {
             }
             assert!(cm.cost_at(pose.position()) < INSCRIBED, "entered the wall's inscribed zone at {pose:?}");
         }
+        // It drove up to the wall rather than stopping at the first failure.
+        assert!(pose.x > 2.5, "{pose:?}");
     }
 }
