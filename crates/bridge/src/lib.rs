@@ -27,3 +27,6 @@ pub mod scan_source;
 pub mod scene_perf;
 pub mod setup;
 pub mod ros;
+pub mod robot_io;
+#[cfg(feature = "ros2")]
+pub mod ros2;
