@@ -90,6 +90,19 @@ depth_values = struct.unpack("<%df" % (depth.width * depth.height), bytes(depth.
 if len(rgb.data) != rgb.step * rgb.height or rgb.step != 3 * rgb.width:
     fail("rgb image: %d bytes, step %d, %dx%d" % (len(rgb.data), rgb.step, rgb.width, rgb.height))
 
+
+
+def truth_at(stamp):
+    """The ground-truth pose published with the same stamp (the state of one instant)."""
+    m = min(got["truth"], key=lambda m: abs(sec(m.header.stamp) - sec(stamp)))
+    if abs(sec(m.header.stamp) - sec(stamp)) > 1e-6:
+        fail("no ground truth stamped %.3f (nearest %.3f)" % (sec(stamp), sec(m.header.stamp)))
+    return m.pose
+
+
+scan_truth = truth_at(scan.header.stamp)
+depth_truth = truth_at(depth.header.stamp)
+
 # cmd_vel (default QoS: reliable) moves the robot: 0.2 m/s for 2.5 s of wall time at rate 1.
 pub = node.create_publisher(Twist, "cmd_vel", 10)
 cmd = Twist()
@@ -129,7 +142,7 @@ out = {
         "range_min": scan.range_min, "range_max": scan.range_max, "scan_time": scan.scan_time,
         "ranges": [finite(r) for r in scan.ranges],
     },
-    "scan_truth": pose_json(min(got["truth"], key=lambda m: abs(sec(m.header.stamp) - sec(scan.header.stamp))).pose),
+    "scan_truth": pose_json(scan_truth),
     "odom": {"frame_id": odom0.header.frame_id, "child_frame_id": odom0.child_frame_id, "pose": pose_json(odom0.pose.pose), "covariance": list(odom0.pose.covariance)},
     "odom_after": pose_json(odom1.pose.pose),
     "twist_after": {"linear": odom1.twist.twist.linear.x, "angular": odom1.twist.twist.angular.z},
@@ -137,7 +150,7 @@ out = {
     "truth_after": pose_json(truth1.pose),
     "depth": {"frame_id": depth.header.frame_id, "encoding": depth.encoding, "width": depth.width, "height": depth.height, "is_bigendian": depth.is_bigendian,
               "stamp": sec(depth.header.stamp), "values": [finite(v) for v in depth_values]},
-    "depth_truth": pose_json(min(got["truth"], key=lambda m: abs(sec(m.header.stamp) - sec(depth.header.stamp))).pose),
+    "depth_truth": pose_json(depth_truth),
     "rgb": {"frame_id": rgb.header.frame_id, "encoding": rgb.encoding, "width": rgb.width, "height": rgb.height, "bytes": len(rgb.data), "distinct": len(set(bytes(rgb.data)))},
     "depth_info": info_json(dinfo),
     "rgb_info": info_json(rinfo),

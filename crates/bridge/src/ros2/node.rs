@@ -117,8 +117,7 @@ pub struct Ros2Node {
 }
 
 impl Ros2Node {
-    /// Joins the DDS domain of `config` as the node `names`. Must be called inside a tokio
-    /// runtime: the node's spinner (ROS graph discovery) runs on it.
+    /// Joins the DDS domain of `config` as the node `names` (RustDDS runs its own threads).
     pub fn new(names: Names, config: Ros2Config) -> Result<Ros2Node, RosError> {
         let mut b = DomainParticipantBuilder::new(config.domain_id);
         if config.localhost_only {
@@ -133,13 +132,10 @@ impl Ros2Node {
             None => ("/".to_string(), full.clone()),
         };
         let node_name = NodeName::new(&ns, &base).map_err(|e| create_err(&format!("node name {full}"), e))?;
-        let mut node = context.new_node(node_name, NodeOptions::new().enable_rosout(false)).map_err(|e| create_err(&format!("creating node {full}"), e))?;
-        let spinner = node.spinner().map_err(|e| create_err("node spinner", e))?;
-        tokio::spawn(async move {
-            if let Err(e) = spinner.spin().await {
-                tracing::warn!("ROS 2 spinner stopped: {e}");
-            }
-        });
+        // No spinner: ros2-client's spinner serves parameters and reads `/clock` as
+        // builtin_interfaces/Time (not rosgraph_msgs/Clock), which puts a second type on
+        // `/clock` in the ROS graph. The node announces its endpoints without it.
+        let node = context.new_node(node_name, NodeOptions::new().enable_rosout(false)).map_err(|e| create_err(&format!("creating node {full}"), e))?;
         Ok(Ros2Node { node, names, config, _context: context })
     }
 

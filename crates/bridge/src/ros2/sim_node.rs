@@ -59,7 +59,7 @@ pub struct SimNode2 {
 
 impl SimNode2 {
     /// Joins the domain of `config` as the node `names` with its topics; scans are stamped
-    /// with `laser_frame`. Must be called inside a tokio runtime.
+    /// with `laser_frame`.
     pub fn new(names: Names, config: Ros2Config, laser_frame: &str, timeout: Duration) -> Result<SimNode2, RosError> {
         let mut node = Ros2Node::new(names, config)?;
         let n = &mut node;
