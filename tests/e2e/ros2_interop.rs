@@ -209,3 +209,26 @@ fn rclpy_receives_our_topics_and_drives_the_robot_over_ros2() {
     assert!(along > 0.25, "the robot moved {along:.3} m forward");
     eprintln!("ros2 interop: depth {}x{}, map {}x{}, cmd_vel moved the robot {moved:.3} m", cam.width, cam.height, map.width, map.height);
 }
+
+#[test]
+fn ros2_names_remapping_and_qos_are_what_rclpy_sees() {
+    let name = "ros2_names_remapping_and_qos_are_what_rclpy_sees";
+    let Some(py) = ros2_python(name) else { return };
+    let domain = domain_id(2);
+    let mut cmd = xhab();
+    cmd.args(["ros2", "sim", "procedural:3", "--camera", "--resolution", "32", "--renderer", "raster", "--rate", "1", "--duration", "300"])
+        .args(["--ros-args", "-r", "__ns:=/robot1", "-r", "__node:=simx", "-r", "scan:=base_scan", "-p", "use_sim_time:=true"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::inherit());
+    xhab_ros2_env(&mut cmd, &domain);
+    let _sim = Killed(cmd.spawn().unwrap());
+    // rclpy joins a few seconds late: the map must still arrive (transient local).
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let mut check = Command::new(&py);
+    check.arg(repo_root().join("tests/e2e/ros2/graph.py"));
+    rclpy_env(&mut check, &domain);
+    let out = check.output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("PASS"), "the rclpy graph check failed");
+}
