@@ -232,3 +232,45 @@ fn ros2_names_remapping_and_qos_are_what_rclpy_sees() {
     eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success() && stdout.contains("PASS"), "the rclpy graph check failed");
 }
+
+/// A goal about `dist` m from `start` in the open: the first of 16 headings whose straight
+/// segment, and a margin past its end, stays on navigable cells.
+fn goal_in_the_open(grid: &xhab_sim::navgrid::NavGrid, start: Pose2, dist: f64) -> Option<xhab_types::Point2> {
+    (0..16).find_map(|k| {
+        let a = start.yaw + k as f64 * std::f64::consts::TAU / 16.0;
+        let clear = (0..=((dist + 0.3) / 0.05) as usize).all(|i| {
+            let r = i as f64 * 0.05;
+            grid.is_navigable(xhab_types::Point2::new(start.x + r * a.cos(), start.y + r * a.sin()))
+        });
+        clear.then(|| xhab_types::Point2::new(start.x + dist * a.cos(), start.y + dist * a.sin()))
+    })
+}
+
+#[test]
+fn rclpy_goal_pose_sends_xhab_ros2_nav_to_a_goal_it_reaches() {
+    let name = "rclpy_goal_pose_sends_xhab_ros2_nav_to_a_goal_it_reaches";
+    let Some(py) = ros2_python(name) else { return };
+    let probe = LiveSim::build(&SimSpec { start: None, publish_camera: false, rgb: false, ..spec(START) }).expect("simulator builds");
+    let start = probe.options.start;
+    let goal = goal_in_the_open(&probe.grid, start, 1.2).expect("an open direction from the start");
+    let domain = domain_id(3);
+    let mut sim = xhab();
+    sim.args(["ros2", "sim", "procedural:3", "--physics", "--robot", "turtlebot3_burger", "--rate", "1", "--duration", "600"])
+        .arg("--start")
+        .arg(format!("{},{},{}", start.x, start.y, start.yaw))
+        .stdout(Stdio::null())
+        .stderr(Stdio::inherit());
+    xhab_ros2_env(&mut sim, &domain);
+    let _sim = Killed(sim.spawn().unwrap());
+    let mut nav = xhab();
+    nav.args(["ros2", "nav", "--robot", "turtlebot3_burger", "--localization", "amcl"]).stdout(Stdio::null()).stderr(Stdio::inherit());
+    xhab_ros2_env(&mut nav, &domain);
+    let _nav = Killed(nav.spawn().unwrap());
+    let mut check = Command::new(&py);
+    check.arg(repo_root().join("tests/e2e/ros2/nav.py")).args([start.x, start.y, start.yaw, goal.x, goal.y, 0.25].map(|v| v.to_string()));
+    rclpy_env(&mut check, &domain);
+    let out = check.output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("PASS"), "xhab ros2 nav did not bring the robot to rclpy's goal_pose");
+}

@@ -267,6 +267,9 @@ pub enum Ros2Command {
     /// The simulator as a ROS 2 node (scan, odom, /tf, /tf_static, /clock, camera, map,
     /// ground truth; cmd_vel or action in), with Nav2's QoS.
     Sim(Ros2SimArgs),
+    /// The native navigation stack as a ROS 2 node with Nav2's names (`goal_pose`,
+    /// `initialpose`, `amcl_pose`; cmd_vel and tf map -> odom out).
+    Nav(Ros2NavArgs),
 }
 
 /// Options every ROS 2 node takes. The DDS domain is `$ROS_DOMAIN_ID`; discovery stays on
@@ -297,9 +300,9 @@ pub struct Ros2SimArgs {
     pub ros2: Ros2Opts,
 }
 
-/// `xhab ros nav`.
+/// What `xhab ros nav` and `xhab ros2 nav` run.
 #[derive(Debug, Args)]
-pub struct RosNavArgs {
+pub struct NavNodeArgs {
     /// The static map (map_server YAML) [default: the map received on `map`].
     #[arg(long)]
     pub map: Option<PathBuf>,
@@ -320,8 +323,24 @@ pub struct RosNavArgs {
     /// Seed of AMCL.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+}
+
+/// `xhab ros nav`.
+#[derive(Debug, Args)]
+pub struct RosNavArgs {
+    #[command(flatten)]
+    pub nav: NavNodeArgs,
     #[command(flatten)]
     pub ros: RosOpts,
+}
+
+/// `xhab ros2 nav`.
+#[derive(Debug, Args)]
+pub struct Ros2NavArgs {
+    #[command(flatten)]
+    pub nav: NavNodeArgs,
+    #[command(flatten)]
+    pub ros2: Ros2Opts,
 }
 
 /// `xhab ros agent`.

@@ -2,7 +2,7 @@
 //! nanoseconds, rotations about z as quaternions, odometry covariances, a pinhole camera's
 //! matrices, depth pixels as bytes, scan ranges as drivers report them.
 
-use xhab_types::{DepthImage, Intrinsics};
+use xhab_types::{DepthImage, Intrinsics, OccupancyGrid, Pose2};
 
 /// `t` simulated seconds as whole seconds and nanoseconds (rounded to the nanosecond;
 /// negative times are 0).
@@ -83,6 +83,25 @@ pub fn wire_ranges(ranges: &[f32]) -> Vec<f32> {
 /// Scan ranges as xhab reads them: those outside [lo, hi] (m) become NaN.
 pub fn ranges_from_wire(ranges: &[f32], lo: f32, hi: f32) -> Vec<f32> {
     ranges.iter().map(|&r| if r >= lo && r <= hi { r } else { f32::NAN }).collect()
+}
+
+/// A received map as xhab's grid: `width` x `height` cells of `resolution` (m) from `origin`
+/// (position x, y, z and quaternion x, y, z, w); an error when the data length does not match,
+/// the resolution is out of map_server's range or the origin is not finite.
+pub fn checked_grid(width: u32, height: u32, resolution: f32, origin: [f64; 7], data: &[i8]) -> Result<OccupancyGrid, String> {
+    let (w, h) = (width as usize, height as usize);
+    if data.len() != w * h {
+        return Err(format!("map: {} cells of data for {w} x {h}", data.len()));
+    }
+    use xhab_nav::map_server::{MAX_RESOLUTION, MIN_RESOLUTION};
+    if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&(resolution as f64)) {
+        return Err(format!("map: resolution {resolution} is not between {MIN_RESOLUTION} and {MAX_RESOLUTION} m per cell"));
+    }
+    if !origin.iter().all(|v| v.is_finite()) {
+        return Err("map: origin is not finite".into());
+    }
+    let yaw = quaternion_yaw([origin[3], origin[4], origin[5], origin[6]]);
+    Ok(OccupancyGrid { width: w, height: h, resolution: resolution as f64, origin: Pose2::new(origin[0], origin[1], yaw), data: data.to_vec() })
 }
 
 #[cfg(test)]

@@ -129,19 +129,8 @@ pub fn occupancy_grid(t: f64, g: &OccupancyGrid) -> nav_msgs::OccupancyGrid {
 
 /// Our map of a nav_msgs/OccupancyGrid; an error when the data length does not match.
 pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, String> {
-    let (w, h) = (m.info.width as usize, m.info.height as usize);
-    if m.data.len() != w * h {
-        return Err(format!("map: {} cells of data for {w} x {h}", m.data.len()));
-    }
-    use xhab_nav::map_server::{MAX_RESOLUTION, MIN_RESOLUTION};
-    if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&(m.info.resolution as f64)) {
-        return Err(format!("map: resolution {} is not between {MIN_RESOLUTION} and {MAX_RESOLUTION} m per cell", m.info.resolution));
-    }
     let o = &m.info.origin;
-    if ![o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w].iter().all(|v| v.is_finite()) {
-        return Err("map: origin is not finite".into());
-    }
-    Ok(OccupancyGrid { width: w, height: h, resolution: m.info.resolution as f64, origin: pose2(&m.info.origin), data: m.data.clone() })
+    wire::checked_grid(m.info.width, m.info.height, m.info.resolution, [o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w], &m.data)
 }
 
 /// A 32FC1 depth image (metres, little-endian) in `frame`; where nothing is hit within range

@@ -133,3 +133,14 @@ pub fn camera_info(t: f64, frame: &str, width: usize, height: usize, k: &Intrins
 pub fn pose_with_covariance(t: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> gm::PoseWithCovarianceStamped {
     gm::PoseWithCovarianceStamped { header: header(t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: wire::planar_covariance(xy_std, yaw_std) } }
 }
+
+/// Our map of a nav_msgs/OccupancyGrid; an error when its data, resolution or origin is bad.
+pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, String> {
+    let o = &m.info.origin;
+    wire::checked_grid(m.info.width, m.info.height, m.info.resolution, [o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w], &m.data)
+}
+
+/// The planar pose of a transform (its translation's x, y and its yaw).
+pub fn pose2_of_transform(t: &gm::Transform) -> Pose2 {
+    Pose2::new(t.translation.x, t.translation.y, quaternion_to_yaw(&t.rotation))
+}

@@ -5,10 +5,11 @@
 //!
 //! [`msgs`]: the message types; [`convert`]: xhab's types to and from them; [`node`]: the
 //! DDS participant, QoS profiles, names and remapping (`--ros-args -r`); [`sim_node`]: the
-//! simulator node; [`live`]: `xhab ros2 sim`.
+//! simulator node; [`live`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`.
 
 pub mod convert;
 pub mod live;
 pub mod msgs;
+pub mod nav_node;
 pub mod node;
 pub mod sim_node;

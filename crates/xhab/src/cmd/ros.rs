@@ -2,7 +2,7 @@
 //! nodes. Parses the flags into the library's options ([`SimSpec`], [`NavNodeSpec`],
 //! [`AgentNodeOptions`]), builds and runs the node there, prints.
 
-use crate::cli::{LocalizationArg, MapOdomArg, RosCommand, RosOpts, SimNodeArgs};
+use crate::cli::{LocalizationArg, MapOdomArg, NavNodeArgs, RosCommand, RosOpts, SimNodeArgs};
 use crate::scene_arg::scene_options;
 use anyhow::{bail, Result};
 use std::process::ExitCode;
@@ -77,6 +77,29 @@ pub(crate) fn build_sim(a: &SimNodeArgs, spec: &SimSpec) -> Result<LiveSim> {
     Ok(sim)
 }
 
+/// The nav node of `xhab ros nav`'s or `xhab ros2 nav`'s flags, its warnings printed.
+pub(crate) fn build_nav(a: &NavNodeArgs, lockstep: bool, timeout: Duration) -> Result<NavNodeSetup> {
+    let spec = NavNodeSpec {
+        map: a.map.clone(),
+        amcl_map: a.amcl_map.clone(),
+        localization: match a.localization {
+            LocalizationArg::GroundTruth => Localization::GroundTruth,
+            LocalizationArg::Odom => Localization::Odom,
+            LocalizationArg::Amcl => Localization::Amcl,
+        },
+        nav_params: a.nav_params.clone(),
+        robot: a.robot.clone(),
+        seed: a.seed,
+        lockstep,
+        timeout,
+    };
+    let node = NavNodeSetup::build(&spec)?;
+    for w in &node.warnings {
+        eprintln!("xhab: warning: {w}");
+    }
+    Ok(node)
+}
+
 pub fn run(c: &RosCommand) -> Result<ExitCode> {
     match c {
         RosCommand::Sim(a) => {
@@ -85,24 +108,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
             run_live(sim.grid.clone(), &sim.options)?;
         }
         RosCommand::Nav(a) => {
-            let spec = NavNodeSpec {
-                map: a.map.clone(),
-                amcl_map: a.amcl_map.clone(),
-                localization: match a.localization {
-                    LocalizationArg::GroundTruth => Localization::GroundTruth,
-                    LocalizationArg::Odom => Localization::Odom,
-                    LocalizationArg::Amcl => Localization::Amcl,
-                },
-                nav_params: a.nav_params.clone(),
-                robot: a.robot.clone(),
-                seed: a.seed,
-                lockstep: a.ros.lockstep,
-                timeout: timeout(&a.ros),
-            };
-            let node = NavNodeSetup::build(&spec)?;
-            for w in &node.warnings {
-                eprintln!("xhab: warning: {w}");
-            }
+            let node = build_nav(&a.nav, a.ros.lockstep, timeout(&a.ros))?;
             nav_node::serve(master_uri(&a.ros).as_deref(), names(&a.ros, "xhab_nav")?, node)?;
         }
         RosCommand::Agent(a) => {
