@@ -17,9 +17,9 @@ check() { # crate forbidden...
     if grep -qx "$f" <<<"$d"; then echo "dependency direction: $c depends on $f" >&2; fail=1; fi
   done
 }
-check xhab-types xhab-sim xhab-nav xhab-bridge roslibrust pyo3
-check xhab-sim xhab-nav xhab-bridge roslibrust pyo3
-check xhab-nav xhab-sim xhab-bridge roslibrust pyo3
+check xhab-types xhab-sim xhab-nav xhab-bridge roslibrust ros2-client rustdds pyo3
+check xhab-sim xhab-nav xhab-bridge roslibrust ros2-client rustdds pyo3
+check xhab-nav xhab-sim xhab-bridge roslibrust ros2-client rustdds pyo3
 check xhab-bridge xhab-experiment xhab-python pyo3
 check xhab-experiment xhab xhab-python pyo3
 check xhab xhab-python pyo3

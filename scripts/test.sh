@@ -27,6 +27,20 @@ if [ ${#need[@]} -gt 0 ]; then
   "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}"
 fi
 
+# Real ROS 2 for the interop tests: rclpy on Fast DDS and the message packages from PyPI
+# (cp311 wheels, so Python 3.11), in their own virtual environment; installed once.
+ros2_venv=.venv-ros2
+if ! "$ros2_venv/bin/python" -c 'import rclpy, sensor_msgs.msg, nav_msgs.msg, geometry_msgs.msg, rosgraph_msgs.msg' 2>/dev/null; then
+  py311=$(command -v python3.11 || true)
+  if [ -z "$py311" ]; then
+    echo "xhab test: python3.11 is needed for ROS 2's wheels (ros-kilted-rclpy)" >&2
+    exit 1
+  fi
+  "$py311" -m venv "$ros2_venv"
+  "$ros2_venv/bin/pip" install -q 'ros-kilted-rclpy[fastrtps]' ros-kilted-std-msgs \
+    ros-kilted-geometry-msgs ros-kilted-sensor-msgs ros-kilted-nav-msgs
+fi
+
 # Shared third-party data (scenes, maps, episodes) lives beside the project.
 if [ -z "${XHAB_DATA:-}" ] && [ -d ../shared ]; then
   export XHAB_DATA="$(cd ../shared && pwd)"
@@ -43,6 +57,7 @@ fi
 
 # The interop tests must run, not skip, wherever this script installed ROS.
 export XHAB_REQUIRE_ROS=1
+export XHAB_REQUIRE_ROS2=1
 export XHAB_REQUIRE_GPU=1
 export XHAB_REQUIRE_SLURM=1
 export XHAB_REQUIRE_CHROMIUM=1

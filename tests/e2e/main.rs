@@ -8,6 +8,7 @@ mod map_vs_slam;
 mod sensors;
 mod raster;
 mod ros_interop;
+mod ros2_interop;
 mod ros_names;
 mod ros_external;
 mod gpu;

@@ -7,7 +7,8 @@
 //! [`gym`]: a Gymnasium-style PointNav environment (reset, step, reward), single or batched.
 //! One entry point per command the CLI runs: [`scene_perf::measure_scene`] (`perf`),
 //! [`navigate::navigate_once`], [`demo::run_demo`], [`global_localization::run_localize`]
-//! (`localize`), and the ROS nodes' builders in [`ros`].
+//! (`localize`), and the ROS nodes' builders in [`ros`] (ROS 1) and `ros2` (ROS 2, feature
+//! `ros2`), whose simulator nodes share [`robot_io`].
 #![warn(missing_docs)]
 
 pub mod agents;
@@ -27,3 +28,6 @@ pub mod scan_source;
 pub mod scene_perf;
 pub mod setup;
 pub mod ros;
+pub mod robot_io;
+#[cfg(feature = "ros2")]
+pub mod ros2;

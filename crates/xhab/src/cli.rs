@@ -62,6 +62,9 @@ pub enum Command {
     /// ROS 1 nodes: the simulator, the native navigation stack, a discrete agent.
     #[command(subcommand)]
     Ros(RosCommand),
+    /// ROS 2 nodes (DDS, pure Rust: no ROS installation needed): the simulator.
+    #[command(subcommand)]
+    Ros2(Ros2Command),
     /// Run a study from a YAML file (scenes x agents x ±physics ±ROS x seeds): per-run bench
     /// reports, results.json/.csv and an HTML report; resumable, shardable, or on SLURM.
     Experiment(ExperimentArgs),
@@ -196,9 +199,9 @@ pub struct RosOpts {
     pub ros_args: Vec<String>,
 }
 
-/// `xhab ros sim`.
+/// What `xhab ros sim` and `xhab ros2 sim` simulate and publish.
 #[derive(Debug, Args)]
-pub struct RosSimArgs {
+pub struct SimNodeArgs {
     /// The scene (glTF/GLB, OBJ, PLY, or procedural[:SEED]).
     pub scene: String,
     /// Map to publish on `map` (map_server YAML) [default: the scene's own map].
@@ -244,16 +247,62 @@ pub struct RosSimArgs {
     #[arg(long, value_enum, default_value_t = MapOdomArg::Stack)]
     pub map_odom: MapOdomArg,
     #[command(flatten)]
-    pub ros: RosOpts,
-    #[command(flatten)]
     pub physics: PhysicsOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
 }
 
-/// `xhab ros nav`.
+/// `xhab ros sim`.
 #[derive(Debug, Args)]
-pub struct RosNavArgs {
+pub struct RosSimArgs {
+    #[command(flatten)]
+    pub sim: SimNodeArgs,
+    #[command(flatten)]
+    pub ros: RosOpts,
+}
+
+/// `xhab ros2 ...`.
+#[derive(Debug, Subcommand)]
+pub enum Ros2Command {
+    /// The simulator as a ROS 2 node (scan, odom, /tf, /tf_static, /clock, camera, map,
+    /// ground truth; cmd_vel or action in), with Nav2's QoS.
+    Sim(Ros2SimArgs),
+    /// The native navigation stack as a ROS 2 node with Nav2's names (`goal_pose`,
+    /// `initialpose`, `amcl_pose`; cmd_vel and tf map -> odom out).
+    Nav(Ros2NavArgs),
+}
+
+/// Options every ROS 2 node takes. The DDS domain is `$ROS_DOMAIN_ID`; discovery stays on
+/// this host with `ROS_LOCALHOST_ONLY=1` or `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`.
+#[derive(Debug, Clone, Args)]
+pub struct Ros2Opts {
+    /// Node name.
+    #[arg(long, help_heading = "ROS 2")]
+    pub name: Option<String>,
+    /// Lock-step: each cycle waits for one command.
+    #[arg(long, help_heading = "ROS 2")]
+    pub lockstep: bool,
+    /// Seconds to wait for a command in lock-step before failing.
+    #[arg(long, default_value_t = 30.0, help_heading = "ROS 2")]
+    pub ros_timeout: f64,
+    /// ROS 2 arguments, last on the line: `--ros-args -r FROM:=TO -r __ns:=/NS -r __node:=NAME`
+    /// (`-p NAME:=VALUE` is accepted and ignored; `$ROS_NAMESPACE` is honoured too).
+    #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS", help_heading = "ROS 2")]
+    pub ros_args: Option<Vec<String>>,
+}
+
+/// `xhab ros2 sim`.
+#[derive(Debug, Args)]
+pub struct Ros2SimArgs {
+    #[command(flatten)]
+    pub sim: SimNodeArgs,
+    #[command(flatten)]
+    pub ros2: Ros2Opts,
+}
+
+/// What `xhab ros nav` and `xhab ros2 nav` run.
+#[derive(Debug, Args)]
+pub struct NavNodeArgs {
     /// The static map (map_server YAML) [default: the map received on `map`].
     #[arg(long)]
     pub map: Option<PathBuf>,
@@ -274,8 +323,24 @@ pub struct RosNavArgs {
     /// Seed of AMCL.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+}
+
+/// `xhab ros nav`.
+#[derive(Debug, Args)]
+pub struct RosNavArgs {
+    #[command(flatten)]
+    pub nav: NavNodeArgs,
     #[command(flatten)]
     pub ros: RosOpts,
+}
+
+/// `xhab ros2 nav`.
+#[derive(Debug, Args)]
+pub struct Ros2NavArgs {
+    #[command(flatten)]
+    pub nav: NavNodeArgs,
+    #[command(flatten)]
+    pub ros2: Ros2Opts,
 }
 
 /// `xhab ros agent`.

@@ -12,9 +12,11 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
+    // RustDDS logs its internal state at warn and error (a peer leaving, endpoints removed at
+    // exit), and ros2-client warns when $ROS_DISTRO is unset: quiet unless XHAB_LOG asks.
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
-        .with_env_filter(tracing_subscriber::EnvFilter::try_from_env("XHAB_LOG").unwrap_or_else(|_| "warn".into()))
+        .with_env_filter(tracing_subscriber::EnvFilter::try_from_env("XHAB_LOG").unwrap_or_else(|_| "warn,rustdds=off,ros2_client=error".into()))
         .without_time()
         .init();
     match cmd::run(&cli) {

@@ -1,13 +1,14 @@
 //! Conversions between xhab's types and ROS 1 messages (REP-103 frames, REP-105 names).
 
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, std_msgs};
+use crate::robot_io::wire;
 use roslibrust::codegen::integral_types::Time;
 use xhab_types::{DepthImage, Intrinsics, LaserScan, OccupancyGrid, Pose2, Twist};
 
 /// ROS time of `t` simulated seconds (rounded to the nanosecond).
 pub fn time(t: f64) -> Time {
-    let ns = (t.max(0.0) * 1e9).round() as i64;
-    Time { secs: (ns / 1_000_000_000) as i32, nsecs: (ns % 1_000_000_000) as i32 }
+    let (secs, nsecs) = wire::split_time(t);
+    Time { secs: secs as i32, nsecs: nsecs as i32 }
 }
 
 /// A header with stamp `t` (s) and frame `frame`; `seq` is left 0 (publishers number their
@@ -18,18 +19,18 @@ pub fn header(t: f64, frame: &str) -> std_msgs::Header {
 
 /// The seconds of a ROS time.
 pub fn seconds(t: &Time) -> f64 {
-    t.secs as f64 + t.nsecs as f64 * 1e-9
+    wire::join_time(t.secs as i64, t.nsecs as i64)
 }
 
 /// The quaternion of a rotation by `yaw` (rad) about z.
 pub fn yaw_to_quaternion(yaw: f64) -> gm::Quaternion {
-    let (s, c) = (0.5 * yaw).sin_cos();
-    gm::Quaternion { x: 0.0, y: 0.0, z: s, w: c }
+    let [x, y, z, w] = wire::yaw_quaternion(yaw);
+    gm::Quaternion { x, y, z, w }
 }
 
 /// The yaw (rad, in (-pi, pi]) of a quaternion (its rotation about z; roll and pitch ignored).
 pub fn quaternion_to_yaw(q: &gm::Quaternion) -> f64 {
-    (2.0 * (q.w * q.z + q.x * q.y)).atan2(1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    wire::quaternion_yaw([q.x, q.y, q.z, q.w])
 }
 
 /// A pose at height `z` (m).
@@ -79,7 +80,7 @@ pub fn laser_scan(t: f64, frame: &str, s: &LaserScan, scan_time: f64) -> sensor_
         scan_time: scan_time as f32,
         range_min: s.range_min as f32,
         range_max: s.range_max as f32,
-        ranges: s.ranges.iter().map(|&r| if r.is_nan() { f32::INFINITY } else { r }).collect(),
+        ranges: wire::wire_ranges(&s.ranges),
         intensities: Vec::new(),
     }
 }
@@ -93,24 +94,12 @@ pub fn scan_from_msg(m: &sensor_msgs::LaserScan) -> LaserScan {
         angle_increment: m.angle_increment as f64,
         range_min: lo as f64,
         range_max: hi as f64,
-        ranges: m.ranges.iter().map(|&r| if r >= lo && r <= hi { r } else { f32::NAN }).collect(),
+        ranges: wire::ranges_from_wire(&m.ranges, lo, hi),
     }
 }
 
-/// Variances of wheel odometry's pose (x, y: m^2; yaw: rad^2) and velocity ((m/s)^2,
-/// (rad/s)^2), as diff-drive drivers report them; the planar base's z, roll and pitch are
-/// fixed, so theirs are tiny.
-pub const ODOM_POSE_VARIANCE: [f64; 6] = [1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3];
-/// See [`ODOM_POSE_VARIANCE`].
-pub const ODOM_TWIST_VARIANCE: [f64; 6] = [1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3];
-
-fn diagonal(v: [f64; 6]) -> [f64; 36] {
-    let mut c = [0.0; 36];
-    for i in 0..6 {
-        c[i * 7] = v[i];
-    }
-    c
-}
+pub use wire::{ODOM_POSE_VARIANCE, ODOM_TWIST_VARIANCE};
+use wire::diagonal;
 
 /// nav_msgs/Odometry: the `odom` pose of `base_link` and its velocity in `base_link`, with
 /// diagonal covariances.
@@ -140,30 +129,14 @@ pub fn occupancy_grid(t: f64, g: &OccupancyGrid) -> nav_msgs::OccupancyGrid {
 
 /// Our map of a nav_msgs/OccupancyGrid; an error when the data length does not match.
 pub fn grid_from_msg(m: &nav_msgs::OccupancyGrid) -> Result<OccupancyGrid, String> {
-    let (w, h) = (m.info.width as usize, m.info.height as usize);
-    if m.data.len() != w * h {
-        return Err(format!("map: {} cells of data for {w} x {h}", m.data.len()));
-    }
-    use xhab_nav::map_server::{MAX_RESOLUTION, MIN_RESOLUTION};
-    if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&(m.info.resolution as f64)) {
-        return Err(format!("map: resolution {} is not between {MIN_RESOLUTION} and {MAX_RESOLUTION} m per cell", m.info.resolution));
-    }
     let o = &m.info.origin;
-    if ![o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w].iter().all(|v| v.is_finite()) {
-        return Err("map: origin is not finite".into());
-    }
-    Ok(OccupancyGrid { width: w, height: h, resolution: m.info.resolution as f64, origin: pose2(&m.info.origin), data: m.data.clone() })
+    wire::checked_grid(m.info.width, m.info.height, m.info.resolution, [o.position.x, o.position.y, o.position.z, o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w], &m.data)
 }
 
 /// A 32FC1 depth image (metres, little-endian) in `frame`; where nothing is hit within range
 /// (0 in xhab's images) it holds NaN, as REP-118 asks.
 pub fn depth_image(t: f64, frame: &str, d: &DepthImage) -> sensor_msgs::Image {
-    let mut data = Vec::with_capacity(d.data.len() * 4);
-    for v in &d.data {
-        let v = if *v > 0.0 { *v } else { f32::NAN };
-        data.extend_from_slice(&v.to_le_bytes());
-    }
-    sensor_msgs::Image { header: header(t, frame), height: d.height as u32, width: d.width as u32, encoding: "32FC1".into(), is_bigendian: 0, step: 4 * d.width as u32, data }
+    sensor_msgs::Image { header: header(t, frame), height: d.height as u32, width: d.width as u32, encoding: "32FC1".into(), is_bigendian: 0, step: 4 * d.width as u32, data: wire::depth_bytes(d) }
 }
 
 /// An rgb8 image in `frame`.
@@ -173,24 +146,21 @@ pub fn rgb_image(t: f64, frame: &str, width: usize, height: usize, rgb: Vec<u8>)
 
 /// sensor_msgs/CameraInfo of a pinhole camera without distortion (plumb_bob, zeros).
 pub fn camera_info(t: f64, frame: &str, width: usize, height: usize, k: &Intrinsics) -> sensor_msgs::CameraInfo {
+    let (kk, r, p) = wire::camera_matrices(k);
     sensor_msgs::CameraInfo {
         header: header(t, frame),
         height: height as u32,
         width: width as u32,
         distortion_model: "plumb_bob".into(),
         D: vec![0.0; 5],
-        K: [k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0],
-        R: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
-        P: [k.fx, 0.0, k.cx, 0.0, 0.0, k.fy, k.cy, 0.0, 0.0, 0.0, 1.0, 0.0],
+        K: kk,
+        R: r,
+        P: p,
         ..Default::default()
     }
 }
 
 /// A pose with covariance: standard deviations `xy_std` (m) and `yaw_std` (rad).
 pub fn pose_with_covariance(t: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> gm::PoseWithCovarianceStamped {
-    let mut cov = [0.0; 36];
-    cov[0] = xy_std * xy_std;
-    cov[7] = xy_std * xy_std;
-    cov[35] = yaw_std * yaw_std;
-    gm::PoseWithCovarianceStamped { header: header(t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: cov } }
+    gm::PoseWithCovarianceStamped { header: header(t, "map"), pose: gm::PoseWithCovariance { pose: pose(p, 0.0), covariance: wire::planar_covariance(xy_std, yaw_std) } }
 }

@@ -11,12 +11,10 @@ use roslibrust::ros1::Publisher;
 use std::time::Duration;
 use tokio::sync::mpsc;
 use xhab_sim::sensors::{CameraFrame, CameraParams, DepthNoise, Renderer};
-use xhab_types::{LaserScan, OccupancyGrid, Pose2, Twist};
+use xhab_types::{OccupancyGrid, Pose2, Twist};
 
-/// The depth camera's optical frame (z forward, x right, y down).
-pub const DEPTH_OPTICAL_FRAME: &str = "camera_depth_optical_frame";
-/// The RGB camera's optical frame (at the same place as the depth camera's).
-pub const RGB_OPTICAL_FRAME: &str = "camera_rgb_optical_frame";
+pub use crate::robot_io::{Command, Mounts, RobotState, DEPTH_OPTICAL_FRAME, RGB_OPTICAL_FRAME};
+use crate::robot_io::{render_frame, SimTransport, OPTICAL_ROTATION};
 
 /// The topic of the map AMCL localises on when it differs from `map` (the scene cut at the
 /// laser's height, while `map` holds the body-band map for the costmap), as amcl's `map`
@@ -33,34 +31,6 @@ pub const STEP_REPLY_TOPIC: &str = "xhab/step_reply";
 /// drops what is published before a subscriber's connection is up, so the first step of a
 /// run is repeated (same stamp; receivers take one per stamp) until the agent answers.
 const RESEND: Duration = Duration::from_millis(5);
-
-/// A command from the agent side.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Command {
-    /// A velocity (geometry_msgs/Twist on `cmd_vel`).
-    Twist(Twist),
-    /// A discrete action (std_msgs/Int16 on `action`): Habitat's 0..=3.
-    Action(i16),
-}
-
-/// The robot's sensor mounts, as static transforms from `base_link`.
-#[derive(Debug, Clone)]
-pub struct Mounts {
-    /// The laser's frame id (`base_scan` on a TurtleBot3).
-    pub laser_frame: String,
-    /// Where the laser sits on the base (m, rad).
-    pub laser: Pose2,
-    /// The scan plane's height above the floor (m).
-    pub laser_z: f64,
-    /// The camera's height above the floor (m).
-    pub camera_z: f64,
-}
-
-impl Default for Mounts {
-    fn default() -> Self {
-        Self { laser_frame: "laser".into(), laser: Pose2::default(), laser_z: 0.2, camera_z: 0.5 }
-    }
-}
 
 /// The simulator node's publishers and command subscriptions.
 pub struct SimNode {
@@ -101,26 +71,6 @@ struct Latched {
     map: Option<nav_msgs::OccupancyGrid>,
     amcl_map: Option<nav_msgs::OccupancyGrid>,
     episode: Option<xhab_msgs::Episode>,
-}
-
-/// One instant of the simulated robot, as the node publishes it.
-#[derive(Debug, Clone, Copy)]
-pub struct RobotState<'a> {
-    /// ROS time (s) of the instant: the stamp of every message about it.
-    pub stamp: f64,
-    /// Ground-truth pose of the base in the world (= map) frame.
-    pub truth: Pose2,
-    /// Height of the floor the robot stands on (m).
-    pub floor_z: f64,
-    /// Odometry pose of the base in the odom frame.
-    pub odom: Pose2,
-    /// Base velocity.
-    pub twist: Twist,
-    /// A scan taken now, if any, with the period between scans (s).
-    pub scan: Option<(&'a LaserScan, f64)>,
-    /// map -> odom from ground truth, published on `/tf` when the simulator stands in for a
-    /// localiser (`--map-odom ground-truth`, as ROS's fake_localization).
-    pub map_to_odom: Option<Pose2>,
 }
 
 fn perr(topic: &str, e: impl std::fmt::Display) -> RosError {
@@ -186,7 +136,8 @@ impl SimNode {
     /// Publishes the static transforms (latched): base_link -> the laser frame, base_link ->
     /// camera_link -> the depth and RGB optical frames.
     pub async fn publish_static_tf(&mut self, m: &Mounts) -> Result<(), RosError> {
-        let optical = gm::Transform { translation: gm::Vector3 { x: 0.0, y: 0.0, z: 0.0 }, rotation: gm::Quaternion { x: -0.5, y: 0.5, z: -0.5, w: 0.5 } };
+        let [x, y, z, w] = OPTICAL_ROTATION;
+        let optical = gm::Transform { translation: gm::Vector3 { x: 0.0, y: 0.0, z: 0.0 }, rotation: gm::Quaternion { x, y, z, w } };
         let msg = tf2_msgs::TFMessage {
             transforms: vec![
                 cv::tf(0.0, "base_link", &m.laser_frame, cv::transform(m.laser, m.laser_z)),
@@ -259,14 +210,8 @@ impl SimNode {
     /// Renders depth (with `noise`, seeded by `seed` and `n`; and RGB when `want_rgb`) from
     /// `base` and publishes it.
     pub async fn publish_camera(&self, n: u64, stamp: f64, renderer: &Renderer, base: Pose2, floor_z: f64, cam: &CameraParams, want_rgb: bool, noise: &DepthNoise, seed: u64) -> Result<(), RosError> {
-        let (mut depth, rgb) = if want_rgb {
-            let (d, c) = renderer.depth_rgb(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth and rgb: {e}")))?;
-            (d, Some(c))
-        } else {
-            (renderer.depth(base, floor_z, cam).map_err(|e| RosError::Node(format!("rendering depth: {e}")))?, None)
-        };
-        noise.apply(&mut depth, seed ^ n.wrapping_mul(0x9e37_79b9_7f4a_7c15));
-        self.publish_frame(stamp, cam, &CameraFrame { depth, rgb }).await
+        let f = render_frame(n, renderer, base, floor_z, cam, want_rgb, noise, seed)?;
+        self.publish_frame(stamp, cam, &f).await
     }
 
     /// Announces a lock-step episode on [`EPISODE_TOPIC`] (latched).
@@ -371,5 +316,29 @@ impl SimNode {
             last = Some(Command::Action(m.data));
         }
         last
+    }
+}
+
+impl SimTransport for SimNode {
+    async fn publish_static_tf(&mut self, m: &Mounts) -> Result<(), RosError> {
+        SimNode::publish_static_tf(self, m).await
+    }
+    async fn publish_map(&mut self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
+        SimNode::publish_map(self, stamp, map).await
+    }
+    async fn publish_amcl_map(&mut self, stamp: f64, map: &OccupancyGrid) -> Result<(), RosError> {
+        SimNode::publish_amcl_map(self, stamp, map).await
+    }
+    async fn publish_state(&self, s: &RobotState<'_>) -> Result<(), RosError> {
+        SimNode::publish_state(self, s).await
+    }
+    async fn publish_frame(&self, stamp: f64, cam: &CameraParams, frame: &CameraFrame) -> Result<(), RosError> {
+        SimNode::publish_frame(self, stamp, cam, frame).await
+    }
+    async fn next_command(&mut self) -> Result<Command, RosError> {
+        SimNode::next_command(self).await
+    }
+    fn latest_command(&mut self) -> Option<Command> {
+        SimNode::latest_command(self)
     }
 }

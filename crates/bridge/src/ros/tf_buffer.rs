@@ -27,14 +27,18 @@ impl TfBuffer {
     /// Takes in every transform of a `/tf` or `/tf_static` message (planar part only).
     pub fn insert(&mut self, m: &TFMessage) {
         for t in &m.transforms {
-            let p = cv::pose2_of_transform(&t.transform);
-            if p.x.is_finite() && p.y.is_finite() && p.yaw.is_finite() {
-                self.edges.insert(bare(&t.child_frame_id).to_string(), (bare(&t.header.frame_id).to_string(), p));
-            }
+            self.insert_edge(&t.header.frame_id, &t.child_frame_id, cv::pose2_of_transform(&t.transform));
         }
     }
 
-    /// The chain from `frame` up to its root: (frame, pose of `frame` in the root).
+    /// Adds or replaces the transform `parent -> child` (the child's planar pose in the
+    /// parent's frame); non-finite ones are ignored.
+    pub fn insert_edge(&mut self, parent: &str, child: &str, p: Pose2) {
+        if p.x.is_finite() && p.y.is_finite() && p.yaw.is_finite() {
+            self.edges.insert(bare(child).to_string(), (bare(parent).to_string(), p));
+        }
+    }
+
     fn to_root(&self, frame: &str) -> Vec<(String, Pose2)> {
         let mut out = vec![(bare(frame).to_string(), Pose2::default())];
         let mut cur = bare(frame).to_string();

@@ -13,6 +13,7 @@ mod perf;
 mod render;
 mod report;
 mod ros;
+mod ros2;
 mod scene;
 
 use crate::cli::{Cli, Command};
@@ -33,6 +34,7 @@ pub fn run(cli: &Cli) -> Result<ExitCode> {
         Command::Render(a) => render::run(a),
         Command::Scene(c) => scene::run(c),
         Command::Ros(c) => ros::run(c),
+        Command::Ros2(c) => ros2::run(c),
         Command::Localize(a) => localize::run(a),
         Command::Experiment(a) => experiment::run(a, cli.quiet),
         Command::Merge(a) => merge::run(a),

@@ -1,0 +1,15 @@
+//! ROS 2 interop over DDS (ros2-client on RustDDS: pure Rust, no ROS installation needed to
+//! build or run): the simulator as a ROS 2 node with Nav2's conventions (sensor-data QoS for
+//! sensors, transient-local `map` and `/tf_static`, `/clock`), talking to rclpy/rclcpp nodes
+//! over Fast DDS or any other RTPS implementation.
+//!
+//! [`msgs`]: the message types; [`convert`]: xhab's types to and from them; [`node`]: the
+//! DDS participant, QoS profiles, names and remapping (`--ros-args -r`); [`sim_node`]: the
+//! simulator node; [`live`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`.
+
+pub mod convert;
+pub mod live;
+pub mod msgs;
+pub mod nav_node;
+pub mod node;
+pub mod sim_node;
