@@ -112,7 +112,12 @@ impl Costmap {
         let map = &*map.axis_aligned();
         let (w, h) = (map.width, map.height);
         let lethal: Vec<bool> = map.data.iter().map(|&v| v >= p.lethal_cost_threshold).collect();
-        let d = edt(&lethal, w, h);
+        let mut d = edt(&lethal, w, h);
+        // The map's outside is an obstacle: distances reach at most across the nearest edge.
+        for (i, di) in d.iter_mut().enumerate() {
+            let (c, r) = (i % w, i / w);
+            *di = di.min((c + 1).min(r + 1).min(w - c).min(h - r) as f64);
+        }
         let mut cost = vec![FREE; w * h];
         for i in 0..w * h {
             cost[i] = if lethal[i] {
@@ -242,9 +247,10 @@ mod tests {
                 assert_eq!(cm.cost_at(wall), LETHAL, "{wall:?}");
                 // The wall is a line along x at y = -0.475 (the map's x is the world's y).
                 assert!((wall.y - -0.475).abs() < 1e-9, "{wall:?}");
-                // 0.5 m to its side, inside the map: free.
+                // 0.5 m to its side, inside the map and away from its edges: free.
                 let beside = Point2::new(wall.x, wall.y - 0.5);
-                assert!(cm.cost_at(beside) < INSCRIBED, "{beside:?}");
+                assert!((8..32).contains(&k) || cm.cost_at(beside) < LETHAL, "{beside:?}");
+                assert!(!(8..32).contains(&k) || cm.cost_at(beside) < INSCRIBED, "{beside:?}");
             }
         }
     }

@@ -42,6 +42,13 @@ pub struct LayeredCostmap {
     version: u64,
 }
 
+/// Squared distance (cells^2) from cell (`c`, `r`) to the nearest cell off a `w` x `h` map:
+/// straight across the nearest edge; capped at [`FAR`].
+pub(crate) fn border_d2(c: usize, r: usize, w: usize, h: usize) -> u32 {
+    let border = (c + 1).min(r + 1).min(w - c).min(h - r) as u64;
+    (border * border).min(FAR as u64) as u32
+}
+
 /// The local region last computed: costs over `region` (global cell coordinates, possibly
 /// beyond the map) for the marks as they were after `flips` flips.
 #[derive(Debug, Clone, Default)]
@@ -68,6 +75,12 @@ impl LayeredCostmap {
         let static_lethal: Vec<bool> = map.data.iter().map(|&v| v >= global.lethal_cost_threshold).collect();
         let mut static_d2 = Vec::new();
         squared_edt(w, h, |c, r| static_lethal[r * w + c], global_table.cap().max(local_table.cap()), &mut static_d2);
+        // The map's outside is an obstacle to the global costmap too (the local one always
+        // took it so): a plan does not run along the map's edge, where the scene's walls may
+        // lie just beyond the last row.
+        for (i, d2) in static_d2.iter_mut().enumerate() {
+            *d2 = (*d2).min(border_d2(i % w, i / w, w, h));
+        }
         let cost = (0..w * h).map(|i| static_cost(static_lethal[i], map.data[i] == GRID_UNKNOWN, static_d2[i], &global_table, global.track_unknown_space)).collect();
         let static_layer = Costmap { width: w, height: h, resolution: map.resolution, origin: Point2::new(map.origin.x, map.origin.y), cost };
         Self {
@@ -276,9 +289,8 @@ fn local_region(lc: &mut LocalCache, ob: &ObstacleLayer, static_lethal: &[bool],
                 *out = LETHAL;
                 continue;
             }
-            // The nearest cell off the map is straight across the nearest edge.
-            let border = (c + 1).min(r + 1).min(w - c).min(h - r) as u64;
-            let d2 = static_d2[i].min(mf[(r - on_map.r0) * mw + (c - on_map.c0)]).min((border * border).min(FAR as u64) as u32);
+            // static_d2 counts the map's outside as an obstacle already.
+            let d2 = static_d2[i].min(mf[(r - on_map.r0) * mw + (c - on_map.c0)]);
             *out = table.cost(d2);
         }
     }
