@@ -1,7 +1,8 @@
 //! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame;
 //! materials give the base colour factor and texture (with its `TEXCOORD_n` set).
 
-use super::gltf_texture::GltfTextures;
+use super::gltf_texture::{read_uri, GltfTextures};
+use super::loader::ReadReferenced;
 use super::{Mesh, Scene, SceneError, UpAxis};
 use std::path::Path;
 
@@ -25,19 +26,17 @@ fn det3(m: &Mat4) -> f64 {
         + m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2])
 }
 
-/// Loads a .gltf (with its external buffers) or .glb file.
-pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+/// Parses a .gltf (its external buffers and images read with `read`) or .glb file's bytes;
+/// `path` names the file in errors.
+pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| malformed(format!("not a valid glTF/GLB file: {e}")))?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
-        .map_err(|e| malformed(format!("cannot read the buffers: {e}")))?;
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| malformed(format!("not a valid glTF/GLB file: {e}")))?;
+    let buffers = load_buffers(&gltf.document, gltf.blob, read).map_err(malformed)?;
     let doc = gltf.document;
     if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
         tracing::warn!("{}: KHR_texture_transform is not applied: textures may be misplaced", path.display());
     }
-    let mut textures = GltfTextures::new(path, &buffers);
+    let mut textures = GltfTextures::new(path, &buffers, read);
     let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| malformed("the file has no scene".into()))?;
     let mut out = Scene::default();
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = scene.nodes().map(|n| (n, IDENTITY, 0)).collect();
@@ -65,9 +64,29 @@ pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     Ok(out)
 }
 
+/// The data of every buffer: the GLB's BIN chunk, a data URI or a file read with `read`;
+/// each at least as long as its `byteLength` says, padded to a multiple of 4 bytes.
+fn load_buffers(doc: &gltf::Document, mut blob: Option<Vec<u8>>, read: ReadReferenced<'_>) -> Result<Vec<Vec<u8>>, String> {
+    let mut out = Vec::new();
+    for b in doc.buffers() {
+        let mut data = match b.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| format!("buffer {}: refers to the GLB's BIN chunk, which the file lacks (or an earlier buffer took)", b.index()))?,
+            gltf::buffer::Source::Uri(uri) => read_uri(uri, read).map_err(|e| format!("buffer {}: {e}", b.index()))?,
+        };
+        if data.len() < b.length() {
+            return Err(format!("buffer {}: {} bytes, but its byteLength is {}", b.index(), data.len(), b.length()));
+        }
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
 fn primitive(
     path: &Path,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
     textures: &mut GltfTextures,
     prim: &gltf::Primitive,
     m: &Mat4,
@@ -80,7 +99,7 @@ fn primitive(
         tracing::warn!("{}: mesh '{name}' primitive {pi}: {mode:?} skipped (not triangles)", path.display());
         return Ok(None);
     }
-    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
     let Some(pos) = reader.read_positions() else {
         return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
     };

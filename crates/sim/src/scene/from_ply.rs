@@ -30,12 +30,12 @@ fn list(p: &Property) -> Option<Vec<i64>> {
     })
 }
 
-/// Loads a .ply file: `vertex` elements with x, y, z and `face` elements with a
-/// `vertex_indices` (or `vertex_index`) list; polygons are fan-triangulated.
-pub(crate) fn load_ply(path: &Path, up: UpAxis) -> Result<Scene, SceneError> {
+/// Parses a .ply file's bytes: `vertex` elements with x, y, z and `face` elements with a
+/// `vertex_indices` (or `vertex_index`) list; polygons are fan-triangulated. The mesh is named
+/// after `path`'s file stem.
+pub(crate) fn parse_ply(bytes: &[u8], path: &Path, up: UpAxis) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
-    let file = std::fs::File::open(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
-    let mut reader = std::io::BufReader::new(file);
+    let mut reader = bytes;
     let parser = ply_rs::parser::Parser::<DefaultElement>::new();
     let ply = parser.read_ply(&mut reader).map_err(|e| malformed(format!("bad PLY: {e}")))?;
     let verts = ply.payload.get("vertex").ok_or_else(|| malformed("no 'vertex' element".into()))?;

@@ -59,5 +59,5 @@ pub mod house;
 mod loader;
 mod to_glb;
 
-pub use loader::load;
+pub use loader::{load, parse, ReadReferenced, SceneFormat};
 pub use to_glb::{to_glb_bytes, write_glb};
