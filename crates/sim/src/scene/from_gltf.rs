@@ -1,7 +1,9 @@
 //! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame;
 //! materials give the base colour factor and texture (with its `TEXCOORD_n` set).
 
+use super::gltf_check::{check_accessor, check_glb};
 use super::gltf_texture::{read_uri, GltfTextures};
+use gltf::accessor::{DataType, Dimensions};
 use super::loader::ReadReferenced;
 use super::{Mesh, Scene, SceneError, UpAxis};
 use std::path::Path;
@@ -30,14 +32,26 @@ fn det3(m: &Mat4) -> f64 {
 /// `path` names the file in errors.
 pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| malformed(format!("not a valid glTF/GLB file: {e}")))?;
-    let buffers = load_buffers(&gltf.document, gltf.blob, read).map_err(malformed)?;
-    let doc = gltf.document;
+    let is_glb = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if bytes.starts_with(b"glTF") {
+        check_glb(bytes).map_err(malformed)?;
+    } else if is_glb {
+        let magic = String::from_utf8_lossy(&bytes[..bytes.len().min(4)]).escape_debug().to_string();
+        return Err(malformed(format!("GLB header, byte 0: magic \"{magic}\", expected \"glTF\"")));
+    }
+    let invalid = |e: gltf::Error| malformed(format!("not a valid glTF/GLB file: {e}"));
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    // gltf-json's validation indexes the accessors with POSITION's index unchecked.
+    check_position_refs(raw.document.as_json()).map_err(malformed)?;
+    let blob = raw.blob;
+    let doc = gltf::Document::from_json(raw.document.into_json()).map_err(invalid)?;
+    let buffers = load_buffers(&doc, blob, read).map_err(malformed)?;
     if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
         tracing::warn!("{}: KHR_texture_transform is not applied: textures may be misplaced", path.display());
     }
     let mut textures = GltfTextures::new(path, &buffers, read);
     let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| malformed("the file has no scene".into()))?;
+    check_node_tree(&doc).map_err(malformed)?;
     let mut out = Scene::default();
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = scene.nodes().map(|n| (n, IDENTITY, 0)).collect();
     stack.reverse();
@@ -62,6 +76,51 @@ pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) ->
     }
     out.textures = textures.textures;
     Ok(out)
+}
+
+/// Checks that every primitive's POSITION names an accessor the file has.
+fn check_position_refs(json: &gltf::json::Root) -> Result<(), String> {
+    let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+    for (mi, mesh) in json.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(a) = prim.attributes.get(&position) {
+                if a.value() >= json.accessors.len() {
+                    return Err(format!("mesh {mi} primitive {pi}: POSITION names accessor {}, but the file has {} accessors", a.value(), json.accessors.len()));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the nodes form trees, as glTF requires: no node is the child of two parents (or
+/// twice of one) and none is its own descendant. Traversal from the scene's roots then ends.
+fn check_node_tree(doc: &gltf::Document) -> Result<(), String> {
+    let n = doc.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for node in doc.nodes() {
+        for c in node.children() {
+            if let Some(p) = parent[c.index()].replace(node.index()) {
+                return Err(format!("node {} is a child of node {p} and of node {} (glTF nodes form trees)", c.index(), node.index()));
+            }
+        }
+    }
+    // Walk up from each node; meeting a node of the same walk is a cycle.
+    let mut walk = vec![usize::MAX; n];
+    for start in 0..n {
+        let mut at = start;
+        while walk[at] == usize::MAX {
+            walk[at] = start;
+            match parent[at] {
+                Some(p) => at = p,
+                None => break,
+            }
+        }
+        if walk[at] == start && parent[at].is_some() {
+            return Err(format!("node {at} is its own descendant (a cycle in the node hierarchy)"));
+        }
+    }
+    Ok(())
 }
 
 /// The data of every buffer: the GLB's BIN chunk, a data URI or a file read with `read`;
@@ -99,6 +158,14 @@ fn primitive(
         tracing::warn!("{}: mesh '{name}' primitive {pi}: {mode:?} skipped (not triangles)", path.display());
         return Ok(None);
     }
+    let Some(pos_accessor) = prim.get(&gltf::Semantic::Positions) else {
+        return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
+    };
+    let at = |e: String| malformed(format!("mesh '{name}' primitive {pi}: {e}"));
+    check_accessor(&pos_accessor, "POSITION", Dimensions::Vec3, &[DataType::F32], buffers).map_err(at)?;
+    if let Some(a) = prim.indices() {
+        check_accessor(&a, "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32], buffers).map_err(at)?;
+    }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
     let Some(pos) = reader.read_positions() else {
         return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
@@ -127,6 +194,9 @@ fn primitive(
     let mut mesh = Mesh::new(name, positions, indices, pbr.base_color_factor());
     if let Some(info) = pbr.base_color_texture() {
         let set = info.tex_coord();
+        if let Some(a) = prim.get(&gltf::Semantic::TexCoords(set)) {
+            check_accessor(&a, &format!("TEXCOORD_{set}"), Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16], buffers).map_err(at)?;
+        }
         match reader.read_tex_coords(set) {
             None => tracing::warn!(
                 "{}: mesh '{name}' primitive {pi}: its base colour texture uses TEXCOORD_{set}, which it lacks; drawn with its base colour factor only",

@@ -2,6 +2,8 @@
 //! diffuse colour (`Kd`) or texture (`map_Kd`, with the `vt` coordinates).
 
 use super::loader::ReadReferenced;
+use super::obj_check::{check_mtl, check_obj};
+use std::cell::RefCell;
 use super::{Mesh, Scene, SceneError, Texture, UpAxis, Wrap};
 use std::collections::HashMap;
 use std::path::Path;
@@ -11,13 +13,25 @@ use std::path::Path;
 /// (where the .mtl normally lies); the texture replaces `Kd` (factor 1), and OBJ's v axis (up)
 /// is flipped to glTF's.
 pub(crate) fn parse_obj(bytes: &[u8], path: &Path, up: UpAxis, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
+    let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
+    check_obj(bytes).map_err(malformed)?;
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    // A material library that fails its check is an error of the scene; tobj's own error
+    // type cannot carry the message, so it waits here.
+    let bad_mtl: RefCell<Option<String>> = RefCell::new(None);
     let load_mtl = |mtl: &Path| {
         let bytes = read(mtl).map_err(|_| tobj::LoadError::OpenFileFailed)?;
+        if let Err(e) = check_mtl(&bytes) {
+            bad_mtl.borrow_mut().get_or_insert_with(|| format!("material library {}: {e}", mtl.display()));
+            return Err(tobj::LoadError::MaterialParseError);
+        }
         tobj::load_mtl_buf(&mut &bytes[..])
     };
-    let (models, materials) = tobj::load_obj_buf(&mut &bytes[..], &opts, load_mtl)
-        .map_err(|e| SceneError::Malformed { path: path.to_path_buf(), reason: format!("bad OBJ: {e}") })?;
+    let loaded = tobj::load_obj_buf(&mut &bytes[..], &opts, load_mtl);
+    if let Some(e) = bad_mtl.into_inner() {
+        return Err(malformed(e));
+    }
+    let (models, materials) = loaded.map_err(|e| malformed(format!("bad OBJ: {e}")))?;
     let materials = materials.unwrap_or_else(|e| {
         tracing::warn!("{}: its material library cannot be read ({e}); meshes are drawn grey", path.display());
         Vec::new()

@@ -52,9 +52,12 @@ impl Default for LoadOptions {
 }
 
 mod from_gltf;
+mod gltf_check;
 mod gltf_texture;
 mod from_obj;
+mod obj_check;
 mod from_ply;
+mod ply_check;
 pub mod house;
 mod loader;
 mod to_glb;
