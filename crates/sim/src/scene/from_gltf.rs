@@ -45,6 +45,7 @@ pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) ->
     check_position_refs(raw.document.as_json()).map_err(malformed)?;
     let blob = raw.blob;
     let doc = gltf::Document::from_json(raw.document.into_json()).map_err(invalid)?;
+    check_image_sources(doc.as_json()).map_err(malformed)?;
     let buffers = load_buffers(&doc, blob, read).map_err(malformed)?;
     if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
         tracing::warn!("{}: KHR_texture_transform is not applied: textures may be misplaced", path.display());
@@ -88,6 +89,19 @@ fn check_position_refs(json: &gltf::json::Root) -> Result<(), String> {
                     return Err(format!("mesh {mi} primitive {pi}: POSITION names accessor {}, but the file has {} accessors", a.value(), json.accessors.len()));
                 }
             }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every image has a source the gltf crate can give without panicking: a `uri`,
+/// or a `bufferView` with its `mimeType` (which glTF requires).
+fn check_image_sources(json: &gltf::json::Root) -> Result<(), String> {
+    for (i, image) in json.images.iter().enumerate() {
+        match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (None, None, _) => return Err(format!("image {i} has neither a uri nor a bufferView")),
+            (None, Some(_), None) => return Err(format!("image {i} has a bufferView but no mimeType")),
+            _ => {}
         }
     }
     Ok(())
