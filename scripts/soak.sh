@@ -25,8 +25,8 @@
 # 1 thread): oracle 10,000 episodes in 832 s, RSS 82,108 KiB after 1,000 and 85,060 KiB after
 # 10,000 (+3.60%); oracle-physics 10,000 in 1,140 s, 84,520 -> 87,960 KiB (+4.07%); nav 2,000
 # episodes (SOAK_EPISODES=2000) in 1,700 s, 79,672 KiB flat from episode 100 to 2,000. The
-# oracle runs grow linearly, about 330 bytes per episode: the per-episode outcomes the report
-# keeps (one record per episode in the JSON), not a leak in the simulator.
+# oracle runs grow linearly, about 330 bytes per episode, which matches the per-episode outcomes
+# the report keeps (one record per episode in the JSON); not yet confirmed with a heap profile.
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
