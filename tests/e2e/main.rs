@@ -18,3 +18,5 @@ mod ros_params;
 mod maps;
 mod experiment;
 mod report;
+mod malformed;
+mod fuzz_regressions;

@@ -101,11 +101,39 @@ pub enum MapError {
 pub const MIN_RESOLUTION: f64 = 1e-4;
 /// Largest cell size a map may have (m).
 pub const MAX_RESOLUTION: f64 = 100.0;
+/// Most cells (pixels) a map image may have.
+pub const MAX_CELLS: usize = 400_000_000;
 
 /// Reads a map_server map: the YAML at `yaml_path` and the image it names.
 pub fn load_map(yaml_path: &Path) -> Result<(OccupancyGrid, MapMetadata), MapError> {
-    let text = std::fs::read_to_string(yaml_path).map_err(|source| MapError::Io { path: yaml_path.to_path_buf(), source })?;
-    let de = serde_yaml::Deserializer::from_str(&text);
+    let bytes = std::fs::read(yaml_path).map_err(|source| MapError::Io { path: yaml_path.to_path_buf(), source })?;
+    let text = String::from_utf8(bytes).map_err(|e| MapError::Yaml {
+        path: yaml_path.to_path_buf(),
+        field: "(file)".into(),
+        reason: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+    })?;
+    let meta = parse_map_yaml(&text, yaml_path)?;
+    let image = meta.image_path(yaml_path);
+    let bytes = std::fs::read(&image).map_err(|source| MapError::Io { path: image.clone(), source })?;
+    let grid = decode_map_image(&bytes, &image, &meta)?;
+    Ok((grid, meta))
+}
+
+impl MapMetadata {
+    /// Where the image is: `image` as written when absolute, else relative to the YAML's folder.
+    pub fn image_path(&self, yaml_path: &Path) -> PathBuf {
+        if self.image.is_absolute() {
+            self.image.clone()
+        } else {
+            yaml_path.parent().unwrap_or(Path::new(".")).join(&self.image)
+        }
+    }
+}
+
+/// Parses and checks a map's YAML text (keys, resolution, origin, thresholds); `yaml_path`
+/// names the file in errors.
+pub fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapMetadata, MapError> {
+    let de = serde_yaml::Deserializer::from_str(text);
     let meta: MapMetadata = serde_path_to_error::deserialize(de).map_err(|e| MapError::Yaml {
         path: yaml_path.to_path_buf(),
         field: if e.path().to_string() == "." { "(top)".into() } else { e.path().to_string() },
@@ -126,10 +154,14 @@ pub fn load_map(yaml_path: &Path) -> Result<(OccupancyGrid, MapMetadata), MapErr
     if !(0.0..=1.0).contains(&meta.occupied_thresh) || !(0.0..=1.0).contains(&meta.free_thresh) || meta.free_thresh >= meta.occupied_thresh {
         return Err(bad("free_thresh", format!("thresholds must satisfy 0 <= free_thresh ({}) < occupied_thresh ({}) <= 1", meta.free_thresh, meta.occupied_thresh)));
     }
-    let image = if meta.image.is_absolute() { meta.image.clone() } else { yaml_path.parent().unwrap_or(Path::new(".")).join(&meta.image) };
-    let img = read_image(&image)?;
-    let grid = to_grid(&img, &meta);
-    Ok((grid, meta))
+    Ok(meta)
+}
+
+/// Decodes a map image's bytes (PGM P5/P2, or PNG) into the occupancy grid `meta` describes,
+/// as map_server does; `image_path` names the image in errors.
+pub fn decode_map_image(bytes: &[u8], image_path: &Path, meta: &MapMetadata) -> Result<OccupancyGrid, MapError> {
+    let img = read_image(bytes, image_path)?;
+    Ok(to_grid(&img, meta))
 }
 
 /// A decoded image: rows top first, `channels` bytes per pixel (alpha last when present).
@@ -141,20 +173,33 @@ struct Pixels {
     data: Vec<u8>,
 }
 
-fn read_image(path: &Path) -> Result<Pixels, MapError> {
-    let bytes = std::fs::read(path).map_err(|source| MapError::Io { path: path.to_path_buf(), source })?;
+fn read_image(bytes: &[u8], path: &Path) -> Result<Pixels, MapError> {
+    let bad = |reason: String| MapError::Image { path: path.to_path_buf(), reason };
     if bytes.starts_with(b"P5") || bytes.starts_with(b"P2") {
-        return read_pgm(&bytes).map_err(|reason| MapError::Image { path: path.to_path_buf(), reason });
+        return read_pgm(bytes).map_err(bad);
     }
-    let img = image::load_from_memory(&bytes).map_err(|e| MapError::Image { path: path.to_path_buf(), reason: format!("cannot decode the image: {e}") })?;
+    let start = String::from_utf8_lossy(&bytes[..bytes.len().min(4)]).escape_debug().to_string();
+    if bytes.len() >= 2 && bytes[0] == b'P' && bytes[1].is_ascii_digit() {
+        return Err(bad(format!("byte 0: magic \"{start}\" is a netpbm image other than PGM; map images are PGM (P5 or P2) or PNG")));
+    }
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| bad(format!("cannot read the image: {e}")))?;
+    if reader.format().is_none() {
+        return Err(bad(format!("byte 0: not a PGM (magic P5 or P2) or PNG image (it starts with \"{start}\")")));
+    }
+    let img = reader.decode().map_err(|e| bad(format!("cannot decode the image: {e}")))?;
     let has_alpha = img.color().has_alpha();
     let (w, h) = (img.width() as usize, img.height() as usize);
+    if w == 0 || h == 0 || w.saturating_mul(h) > MAX_CELLS {
+        return Err(bad(format!("{w} x {h} pixels is empty or larger than {MAX_CELLS}")));
+    }
     let (channels, data) = if has_alpha { (4, img.to_rgba8().into_raw()) } else { (3, img.to_rgb8().into_raw()) };
     Ok(Pixels { w, h, channels, has_alpha, data })
 }
 
-/// Binary (P5, 8 or 16 bit) and ASCII (P2) PGM.
+/// Binary (P5, 8 or 16 bit) and ASCII (P2) PGM; errors name the header field or the byte
+/// offset where the file goes wrong.
 fn read_pgm(b: &[u8]) -> Result<Pixels, String> {
+    const FIELDS: [&str; 3] = ["width", "height", "maxval"];
     let mut pos = 2;
     let mut header = Vec::new();
     while header.len() < 3 {
@@ -167,46 +212,65 @@ fn read_pgm(b: &[u8]) -> Result<Pixels, String> {
             }
             continue;
         }
+        let field = FIELDS[header.len()];
         let start = pos;
         while pos < b.len() && b[pos].is_ascii_digit() {
             pos += 1;
         }
         if start == pos {
-            return Err("broken PGM header: expected width, height and maxval".into());
+            let found = if pos < b.len() { format!("{:?}", b[pos] as char) } else { "the end of the file".into() };
+            return Err(format!("broken PGM header: byte {pos}: expected the {field} (a number), found {found}"));
         }
-        let v: usize = std::str::from_utf8(&b[start..pos]).ok().and_then(|s| s.parse().ok()).ok_or("broken PGM header number")?;
+        let v: usize = std::str::from_utf8(&b[start..pos])
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| format!("broken PGM header: byte {start}: the {field} is too large"))?;
         header.push(v);
     }
     let (w, h, maxval) = (header[0], header[1], header[2]);
-    if w == 0 || h == 0 || maxval == 0 || maxval > 65535 || w.saturating_mul(h) > 400_000_000 {
-        return Err(format!("bad PGM size or maxval: {w} x {h}, maxval {maxval}"));
+    if maxval == 0 || maxval > 65535 {
+        return Err(format!("PGM header: maxval {maxval} must be between 1 and 65535"));
+    }
+    if w == 0 || h == 0 || w.saturating_mul(h) > MAX_CELLS {
+        return Err(format!("PGM header: width {w} x height {h} pixels is empty or larger than {MAX_CELLS}"));
     }
     let scale = |v: usize| ((v * 255 + maxval / 2) / maxval).min(255) as u8;
-    let mut data = Vec::with_capacity(w * h);
-    if b.starts_with(b"P5") {
+    let data = if b.starts_with(b"P5") {
         pos += 1; // the single whitespace after maxval
         let bps = if maxval > 255 { 2 } else { 1 };
         let need = w * h * bps;
         if b.len() < pos + need {
-            return Err(format!("truncated PGM: {} bytes of pixel data, {need} expected for {w} x {h}", b.len().saturating_sub(pos)));
+            return Err(format!(
+                "truncated PGM: the pixel data from byte {pos} should hold {need} bytes for {w} x {h} pixels, the file ends at byte {}",
+                b.len()
+            ));
         }
-        for i in 0..w * h {
-            let v = if bps == 2 { (b[pos + 2 * i] as usize) << 8 | b[pos + 2 * i + 1] as usize } else { b[pos + i] as usize };
-            data.push(if maxval == 255 { v as u8 } else { scale(v) });
+        let px = &b[pos..pos + need];
+        if bps == 2 {
+            px.chunks_exact(2).map(|c| scale((c[0] as usize) << 8 | c[1] as usize)).collect()
+        } else if maxval == 255 {
+            px.to_vec()
+        } else {
+            px.iter().map(|&v| scale(v as usize)).collect()
         }
     } else {
-        let text = std::str::from_utf8(&b[pos..]).map_err(|_| "ASCII PGM with non-text pixel data")?;
+        let text = std::str::from_utf8(&b[pos..]).map_err(|e| format!("ASCII PGM: byte {}: pixel data that is not text", pos + e.valid_up_to()))?;
+        let mut data = Vec::with_capacity((w * h).min(text.len() / 2 + 1));
+        let mut at = pos;
         for tok in text.split_ascii_whitespace() {
             if data.len() == w * h {
                 break;
             }
-            let v: usize = tok.parse().map_err(|_| format!("bad ASCII PGM value '{tok}'"))?;
+            // The token's byte offset in the file (tokens are slices of `text`).
+            at = pos + (tok.as_ptr() as usize - text.as_ptr() as usize);
+            let v: usize = tok.parse().map_err(|_| format!("ASCII PGM: byte {at}: bad pixel value '{tok}'"))?;
             data.push(if maxval == 255 { v.min(255) as u8 } else { scale(v.min(maxval)) });
         }
         if data.len() < w * h {
-            return Err(format!("truncated PGM: {} of {} values", data.len(), w * h));
+            return Err(format!("truncated PGM: {} of {} pixel values (the last at byte {at}) for {w} x {h} pixels", data.len(), w * h));
         }
-    }
+        data
+    };
     Ok(Pixels { w, h, channels: 1, has_alpha: false, data })
 }
 

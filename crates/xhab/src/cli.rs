@@ -577,6 +577,10 @@ pub struct BenchArgs {
     /// Seed of the run's randomness (odometry noise); episode i uses SEED + i.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Print the process's resident memory (VmRSS, Linux) to stderr after every N finished
+    /// episodes, as `xhab: rss after episode N: KIB KiB` (soak tests, scripts/soak.sh); 0: never.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub rss_every: usize,
     /// Localisation of the nav agent.
     #[arg(long, value_enum, default_value_t = LocalizationArg::GroundTruth, help_heading = "Navigation")]
     pub localization: LocalizationArg,

@@ -16,3 +16,4 @@ pub mod bench;
 pub mod live;
 pub mod external;
 pub mod move_base_client;
+pub mod wire;

@@ -59,7 +59,8 @@ pub fn load_nav_params(files: &[ParamFile]) -> Result<LoadedParams, ParamError> 
         .iter()
         .map(|f| {
             let name = f.path.display().to_string();
-            let text = std::fs::read_to_string(&f.path).map_err(|source| ParamError::Read { file: name.clone(), source })?;
+            let bytes = std::fs::read(&f.path).map_err(|source| ParamError::Read { file: name.clone(), source })?;
+            let text = String::from_utf8(bytes).map_err(|e| ParamError::Yaml { file: name.clone(), message: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()) })?;
             Ok(ParamSource { name, text, namespace: f.namespace.clone() })
         })
         .collect::<Result<Vec<_>, ParamError>>()?;

@@ -56,7 +56,10 @@ enum Id {
     Number(serde_json::Number),
 }
 
+/// A PointNav goal has a position and a radius only (Habitat's `NavigationGoal`): any other key
+/// is a typo, not an extension.
 #[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct FileGoal {
     position: [f64; 3],
     #[serde(default = "default_radius")]
@@ -102,22 +105,26 @@ pub fn read_dataset(path: &Path) -> Result<Dataset, DatasetError> {
 }
 
 fn read_one(path: &Path) -> Result<Dataset, DatasetError> {
-    let io = |source| DatasetError::Io { path: path.to_path_buf(), source };
-    let bytes = std::fs::read(path).map_err(io)?;
+    let bytes = std::fs::read(path).map_err(|source| DatasetError::Io { path: path.to_path_buf(), source })?;
+    parse_dataset(&bytes, path)
+}
+
+/// Parses one dataset file's bytes, gzipped or plain JSON (told by the first bytes), as
+/// [`read_dataset`] reads each file; `path` names the file in errors (no `content/` folder is
+/// looked for).
+pub fn parse_dataset(bytes: &[u8], path: &Path) -> Result<Dataset, DatasetError> {
+    let schema = |field: &str, reason: String| DatasetError::Schema { path: path.to_path_buf(), field: field.into(), reason };
     let text = if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut s = String::new();
-        flate2::read::GzDecoder::new(&bytes[..]).read_to_string(&mut s).map_err(|e| DatasetError::Schema {
-            path: path.to_path_buf(),
-            field: "(gzip)".into(),
-            reason: format!("cannot decompress: {e}"),
-        })?;
-        s
+        let mut json = Vec::new();
+        let mut gz = flate2::bufread::GzDecoder::new(bytes);
+        let read = gz.read_to_end(&mut json);
+        // The decoder reads its input no further than it has decoded: where it stopped is
+        // where the gzip stream went wrong.
+        let at = bytes.len() - gz.into_inner().len();
+        read.map_err(|e| schema("(gzip)", format!("cannot decompress: byte {at} of {}: {e}", bytes.len())))?;
+        String::from_utf8(json).map_err(|e| schema("(file)", format!("the decompressed JSON is not UTF-8 text (byte {} of it)", e.utf8_error().valid_up_to())))?
     } else {
-        String::from_utf8(bytes).map_err(|_| DatasetError::Schema {
-            path: path.to_path_buf(),
-            field: "(file)".into(),
-            reason: "neither gzip nor UTF-8 JSON".into(),
-        })?
+        String::from_utf8(bytes.to_vec()).map_err(|e| schema("(file)", format!("neither gzip nor UTF-8 JSON (byte {} is not UTF-8)", e.utf8_error().valid_up_to())))?
     };
     let de = &mut serde_json::Deserializer::from_str(&text);
     let file: FileDataset = serde_path_to_error::deserialize(de).map_err(|e| DatasetError::Schema {

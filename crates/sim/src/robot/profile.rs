@@ -121,11 +121,17 @@ impl RobotProfile {
 
     /// Reads a profile from a YAML file.
     pub fn from_file(path: &Path) -> Result<RobotProfile, ProfileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ProfileError::Io { path: path.to_path_buf(), source })?;
+        let bytes = std::fs::read(path).map_err(|source| ProfileError::Io { path: path.to_path_buf(), source })?;
+        let text = String::from_utf8(bytes).map_err(|e| ProfileError::Field {
+            path: path.to_path_buf(),
+            field: "(file)".into(),
+            reason: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        })?;
         Self::parse(&text, path)
     }
 
-    fn parse(text: &str, path: &Path) -> Result<RobotProfile, ProfileError> {
+    /// Parses a profile's YAML text and checks its ranges; `path` names the file in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<RobotProfile, ProfileError> {
         let de = serde_yaml::Deserializer::from_str(text);
         let p: RobotProfile = serde_path_to_error::deserialize(de).map_err(|e| ProfileError::Field {
             path: path.to_path_buf(),
@@ -136,7 +142,8 @@ impl RobotProfile {
         Ok(p)
     }
 
-    /// Checks ranges: every size, mass and limit positive and finite.
+    /// Checks ranges: every size, mass and limit positive and finite; a footprint of at least 3
+    /// finite points.
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
         for (f, v) in [
             ("radius", self.radius),
@@ -159,6 +166,14 @@ impl RobotProfile {
         }
         if self.laser.frame.is_empty() || self.laser.frame.contains(char::is_whitespace) {
             return Err(("laser.frame", format!("must be a tf frame id, got '{}'", self.laser.frame)));
+        }
+        if let Some(fp) = &self.footprint {
+            if fp.len() < 3 {
+                return Err(("footprint", format!("a polygon needs at least 3 points, got {}", fp.len())));
+            }
+            if let Some(i) = fp.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                return Err(("footprint", format!("point {i} is not finite: [{}, {}]", fp[i][0], fp[i][1])));
+            }
         }
         Ok(())
     }

@@ -1,7 +1,10 @@
 //! glTF 2.0 / GLB scenes: every node's transform applied, y-up converted to the world frame;
 //! materials give the base colour factor and texture (with its `TEXCOORD_n` set).
 
-use super::gltf_texture::GltfTextures;
+use super::gltf_check::{check_accessor, check_glb};
+use super::gltf_texture::{read_uri, GltfTextures};
+use gltf::accessor::{DataType, Dimensions};
+use super::loader::ReadReferenced;
 use super::{Mesh, Scene, SceneError, UpAxis};
 use std::path::Path;
 
@@ -25,20 +28,31 @@ fn det3(m: &Mat4) -> f64 {
         + m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2])
 }
 
-/// Loads a .gltf (with its external buffers) or .glb file.
-pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+/// Parses a .gltf (its external buffers and images read with `read`) or .glb file's bytes;
+/// `path` names the file in errors.
+pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| malformed(format!("not a valid glTF/GLB file: {e}")))?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
-        .map_err(|e| malformed(format!("cannot read the buffers: {e}")))?;
-    let doc = gltf.document;
+    let is_glb = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if bytes.starts_with(b"glTF") {
+        check_glb(bytes).map_err(malformed)?;
+    } else if is_glb {
+        let magic = String::from_utf8_lossy(&bytes[..bytes.len().min(4)]).escape_debug().to_string();
+        return Err(malformed(format!("GLB header, byte 0: magic \"{magic}\", expected \"glTF\"")));
+    }
+    let invalid = |e: gltf::Error| malformed(format!("not a valid glTF/GLB file: {e}"));
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    // gltf-json's validation indexes the accessors with POSITION's index unchecked.
+    check_position_refs(raw.document.as_json()).map_err(malformed)?;
+    let blob = raw.blob;
+    let doc = gltf::Document::from_json(raw.document.into_json()).map_err(invalid)?;
+    check_image_sources(doc.as_json()).map_err(malformed)?;
+    let buffers = load_buffers(&doc, blob, read).map_err(malformed)?;
     if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
         tracing::warn!("{}: KHR_texture_transform is not applied: textures may be misplaced", path.display());
     }
-    let mut textures = GltfTextures::new(path, &buffers);
+    let mut textures = GltfTextures::new(path, &buffers, read);
     let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| malformed("the file has no scene".into()))?;
+    check_node_tree(&doc).map_err(malformed)?;
     let mut out = Scene::default();
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = scene.nodes().map(|n| (n, IDENTITY, 0)).collect();
     stack.reverse();
@@ -65,9 +79,87 @@ pub(crate) fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     Ok(out)
 }
 
+/// Checks that every primitive's POSITION names an accessor the file has.
+fn check_position_refs(json: &gltf::json::Root) -> Result<(), String> {
+    let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+    for (mi, mesh) in json.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(a) = prim.attributes.get(&position) {
+                if a.value() >= json.accessors.len() {
+                    return Err(format!("mesh {mi} primitive {pi}: POSITION names accessor {}, but the file has {} accessors", a.value(), json.accessors.len()));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every image has a source the gltf crate can give without panicking: a `uri`,
+/// or a `bufferView` with its `mimeType` (which glTF requires).
+fn check_image_sources(json: &gltf::json::Root) -> Result<(), String> {
+    for (i, image) in json.images.iter().enumerate() {
+        match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (None, None, _) => return Err(format!("image {i} has neither a uri nor a bufferView")),
+            (None, Some(_), None) => return Err(format!("image {i} has a bufferView but no mimeType")),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the nodes form trees, as glTF requires: no node is the child of two parents (or
+/// twice of one) and none is its own descendant. Traversal from the scene's roots then ends.
+fn check_node_tree(doc: &gltf::Document) -> Result<(), String> {
+    let n = doc.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for node in doc.nodes() {
+        for c in node.children() {
+            if let Some(p) = parent[c.index()].replace(node.index()) {
+                return Err(format!("node {} is a child of node {p} and of node {} (glTF nodes form trees)", c.index(), node.index()));
+            }
+        }
+    }
+    // Walk up from each node; meeting a node of the same walk is a cycle.
+    let mut walk = vec![usize::MAX; n];
+    for start in 0..n {
+        let mut at = start;
+        while walk[at] == usize::MAX {
+            walk[at] = start;
+            match parent[at] {
+                Some(p) => at = p,
+                None => break,
+            }
+        }
+        if walk[at] == start && parent[at].is_some() {
+            return Err(format!("node {at} is its own descendant (a cycle in the node hierarchy)"));
+        }
+    }
+    Ok(())
+}
+
+/// The data of every buffer: the GLB's BIN chunk, a data URI or a file read with `read`;
+/// each at least as long as its `byteLength` says, padded to a multiple of 4 bytes.
+fn load_buffers(doc: &gltf::Document, mut blob: Option<Vec<u8>>, read: ReadReferenced<'_>) -> Result<Vec<Vec<u8>>, String> {
+    let mut out = Vec::new();
+    for b in doc.buffers() {
+        let mut data = match b.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| format!("buffer {}: refers to the GLB's BIN chunk, which the file lacks (or an earlier buffer took)", b.index()))?,
+            gltf::buffer::Source::Uri(uri) => read_uri(uri, read).map_err(|e| format!("buffer {}: {e}", b.index()))?,
+        };
+        if data.len() < b.length() {
+            return Err(format!("buffer {}: {} bytes, but its byteLength is {}", b.index(), data.len(), b.length()));
+        }
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
 fn primitive(
     path: &Path,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
     textures: &mut GltfTextures,
     prim: &gltf::Primitive,
     m: &Mat4,
@@ -80,7 +172,15 @@ fn primitive(
         tracing::warn!("{}: mesh '{name}' primitive {pi}: {mode:?} skipped (not triangles)", path.display());
         return Ok(None);
     }
-    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let Some(pos_accessor) = prim.get(&gltf::Semantic::Positions) else {
+        return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
+    };
+    let at = |e: String| malformed(format!("mesh '{name}' primitive {pi}: {e}"));
+    check_accessor(&pos_accessor, "POSITION", Dimensions::Vec3, &[DataType::F32], buffers).map_err(at)?;
+    if let Some(a) = prim.indices() {
+        check_accessor(&a, "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32], buffers).map_err(at)?;
+    }
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
     let Some(pos) = reader.read_positions() else {
         return Err(malformed(format!("mesh '{name}' primitive {pi} has no POSITION attribute")));
     };
@@ -108,6 +208,9 @@ fn primitive(
     let mut mesh = Mesh::new(name, positions, indices, pbr.base_color_factor());
     if let Some(info) = pbr.base_color_texture() {
         let set = info.tex_coord();
+        if let Some(a) = prim.get(&gltf::Semantic::TexCoords(set)) {
+            check_accessor(&a, &format!("TEXCOORD_{set}"), Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16], buffers).map_err(at)?;
+        }
         match reader.read_tex_coords(set) {
             None => tracing::warn!(
                 "{}: mesh '{name}' primitive {pi}: its base colour texture uses TEXCOORD_{set}, which it lacks; drawn with its base colour factor only",

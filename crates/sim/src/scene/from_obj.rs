@@ -1,23 +1,41 @@
 //! Wavefront OBJ scenes (triangulated), with the up axis as a load option; materials give the
 //! diffuse colour (`Kd`) or texture (`map_Kd`, with the `vt` coordinates).
 
+use super::loader::ReadReferenced;
+use super::obj_check::{check_mtl, check_obj};
+use std::cell::RefCell;
 use super::{Mesh, Scene, SceneError, Texture, UpAxis, Wrap};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Loads an .obj file; materials are read for their diffuse colour and texture when present.
-/// A `map_Kd` image path is taken relative to the .obj's folder (where the .mtl normally
-/// lies); the texture replaces `Kd` (factor 1), and OBJ's v axis (up) is flipped to glTF's.
-pub(crate) fn load_obj(path: &Path, up: UpAxis) -> Result<Scene, SceneError> {
+/// Parses an .obj file's bytes; material libraries (`mtllib`) are read with `read` for their
+/// diffuse colour and texture. A `map_Kd` image path is taken relative to the .obj's folder
+/// (where the .mtl normally lies); the texture replaces `Kd` (factor 1), and OBJ's v axis (up)
+/// is flipped to glTF's.
+pub(crate) fn parse_obj(bytes: &[u8], path: &Path, up: UpAxis, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
+    let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
+    check_obj(bytes).map_err(malformed)?;
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-    let (models, materials) = tobj::load_obj(path, &opts).map_err(|e| match e {
-        tobj::LoadError::OpenFileFailed => {
-            SceneError::Io { path: path.to_path_buf(), source: std::io::Error::new(std::io::ErrorKind::NotFound, "cannot open the file") }
+    // A material library that fails its check is an error of the scene; tobj's own error
+    // type cannot carry the message, so it waits here.
+    let bad_mtl: RefCell<Option<String>> = RefCell::new(None);
+    let load_mtl = |mtl: &Path| {
+        let bytes = read(mtl).map_err(|_| tobj::LoadError::OpenFileFailed)?;
+        if let Err(e) = check_mtl(&bytes) {
+            bad_mtl.borrow_mut().get_or_insert_with(|| format!("material library {}: {e}", mtl.display()));
+            return Err(tobj::LoadError::MaterialParseError);
         }
-        e => SceneError::Malformed { path: path.to_path_buf(), reason: format!("bad OBJ: {e}") },
-    })?;
-    let materials = materials.unwrap_or_default();
-    let base = path.parent().unwrap_or(Path::new("."));
+        tobj::load_mtl_buf(&mut &bytes[..])
+    };
+    let loaded = tobj::load_obj_buf(&mut &bytes[..], &opts, load_mtl);
+    if let Some(e) = bad_mtl.into_inner() {
+        return Err(malformed(e));
+    }
+    let (models, materials) = loaded.map_err(|e| malformed(format!("bad OBJ: {e}")))?;
+    let materials = materials.unwrap_or_else(|e| {
+        tracing::warn!("{}: its material library cannot be read ({e}); meshes are drawn grey", path.display());
+        Vec::new()
+    });
     let mut out = Scene::default();
     // Texture file (as written) and wrap mode to its index in `out.textures`.
     let mut loaded: HashMap<(String, Wrap), u32> = HashMap::new();
@@ -38,8 +56,7 @@ pub(crate) fn load_obj(path: &Path, up: UpAxis) -> Result<Scene, SceneError> {
                     Some(&i) => i,
                     None => {
                         let err = |reason: String| SceneError::Texture { path: path.to_path_buf(), mesh: m.name.clone(), image: file.to_string(), reason };
-                        let full = base.join(file);
-                        let bytes = std::fs::read(&full).map_err(|e| err(format!("cannot read {}: {e}", full.display())))?;
+                        let bytes = read(Path::new(file)).map_err(|e| err(format!("cannot read {file}: {e}")))?;
                         let t = Texture::decode(file, &bytes, wrap, wrap).map_err(err)?;
                         out.textures.push(t);
                         let i = out.textures.len() as u32 - 1;

@@ -1,18 +1,19 @@
 //! glTF base-colour textures: images read from buffer views, data URIs or files beside the
 //! .gltf, decoded once per (image, wrap modes) however many materials use them.
 
+use super::loader::ReadReferenced;
 use super::{SceneError, Texture, Wrap};
 use base64::Engine;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The textures of one glTF file, loaded on first use.
 pub(crate) struct GltfTextures<'a> {
     /// The glTF file (for messages).
     path: &'a Path,
-    /// Its folder, where relative URIs point.
-    base: PathBuf,
-    buffers: &'a [gltf::buffer::Data],
+    /// Reads the files relative URIs name.
+    read: ReadReferenced<'a>,
+    buffers: &'a [Vec<u8>],
     /// (image index, wrap s, wrap t) to the index in `textures`.
     loaded: HashMap<(usize, Wrap, Wrap), u32>,
     /// The decoded textures, in order of first use.
@@ -20,9 +21,8 @@ pub(crate) struct GltfTextures<'a> {
 }
 
 impl<'a> GltfTextures<'a> {
-    pub(crate) fn new(path: &'a Path, buffers: &'a [gltf::buffer::Data]) -> Self {
-        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-        Self { path, base, buffers, loaded: HashMap::new(), textures: Vec::new() }
+    pub(crate) fn new(path: &'a Path, buffers: &'a [Vec<u8>], read: ReadReferenced<'a>) -> Self {
+        Self { path, read, buffers, loaded: HashMap::new(), textures: Vec::new() }
     }
 
     /// The index of `tex` in the scene's texture table, decoding its image on first use; the
@@ -54,23 +54,26 @@ impl<'a> GltfTextures<'a> {
             gltf::image::Source::View { view, .. } => {
                 let buf = self.buffers.get(view.buffer().index()).ok_or("its buffer view refers to a missing buffer")?;
                 let (a, n) = (view.offset(), view.length());
-                buf.0.get(a..a.saturating_add(n)).map(|b| b.to_vec()).ok_or_else(|| {
-                    format!("its buffer view (bytes {a}..{}) lies outside its buffer ({} bytes)", a.saturating_add(n), buf.0.len())
+                buf.get(a..a.saturating_add(n)).map(|b| b.to_vec()).ok_or_else(|| {
+                    format!("its buffer view (bytes {a}..{}) lies outside its buffer ({} bytes)", a.saturating_add(n), buf.len())
                 })
             }
-            gltf::image::Source::Uri { uri, .. } => {
-                if let Some(rest) = uri.strip_prefix("data:") {
-                    let (_, data) = rest.split_once(";base64,").ok_or("a data URI that is not base64")?;
-                    base64::engine::general_purpose::STANDARD.decode(data).map_err(|e| format!("bad base64 in its data URI: {e}"))
-                } else if uri.contains("://") && !uri.starts_with("file://") {
-                    Err("only files and data URIs are read, not network URIs".into())
-                } else {
-                    let rel = uri.strip_prefix("file://").unwrap_or(uri);
-                    let rel = urlencoding::decode(rel).map_err(|e| format!("bad percent-encoding in the URI: {e}"))?;
-                    let file = self.base.join(&*rel);
-                    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
-                }
-            }
+            gltf::image::Source::Uri { uri, .. } => read_uri(uri, self.read),
         }
+    }
+}
+
+/// The bytes a glTF URI names: a base64 data URI, or a file (relative to the glTF's folder,
+/// percent-encoded, optionally `file://`) read with `read`; network URIs are refused.
+pub(crate) fn read_uri(uri: &str, read: ReadReferenced<'_>) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, data) = rest.split_once(";base64,").ok_or("a data URI that is not base64")?;
+        base64::engine::general_purpose::STANDARD.decode(data).map_err(|e| format!("bad base64 in its data URI: {e}"))
+    } else if uri.contains("://") && !uri.starts_with("file://") {
+        Err("only files and data URIs are read, not network URIs".into())
+    } else {
+        let rel = uri.strip_prefix("file://").unwrap_or(uri);
+        let rel = urlencoding::decode(rel).map_err(|e| format!("bad percent-encoding in the URI: {e}"))?;
+        read(Path::new(&*rel)).map_err(|e| format!("cannot read {rel}: {e}"))
     }
 }

@@ -1,20 +1,56 @@
-//! `load`: any supported scene file, checked.
+//! `load` and `parse`: any supported scene file, from disk or from bytes, checked.
 
 use super::{LoadOptions, Scene, SceneError};
 use std::path::Path;
 
+/// A scene file's format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// glTF 2.0: binary (.glb) or JSON (.gltf), told apart by the first bytes.
+    Gltf,
+    /// Wavefront OBJ (.obj), with its MTL material libraries.
+    Obj,
+    /// Stanford PLY (.ply), ascii or binary.
+    Ply,
+}
+
+impl SceneFormat {
+    /// The format a file name's extension names (.glb, .gltf, .obj, .ply; case-insensitive).
+    pub fn from_path(path: &Path) -> Option<SceneFormat> {
+        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        match ext.as_str() {
+            "glb" | "gltf" => Some(SceneFormat::Gltf),
+            "obj" => Some(SceneFormat::Obj),
+            "ply" => Some(SceneFormat::Ply),
+            _ => None,
+        }
+    }
+}
+
+/// Reads a file that a scene refers to (a glTF buffer or image, an OBJ material library or
+/// texture), given its path as the scene writes it (relative to the scene's folder, or absolute).
+pub type ReadReferenced<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+
 /// Loads a scene file (.glb, .gltf, .obj, .ply; case-insensitive) into the world frame, drops
 /// ceilings when asked, and checks it: finite vertices, indices in range, triangles present.
+/// Files the scene refers to are read from beside it.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, SceneError> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if !path.exists() {
         return Err(SceneError::Io { path: path.to_path_buf(), source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file") });
     }
-    let mut scene = match ext.as_str() {
-        "glb" | "gltf" => super::from_gltf::load_gltf(path)?,
-        "obj" => super::from_obj::load_obj(path, opts.up_axis)?,
-        "ply" => super::from_ply::load_ply(path, opts.up_axis)?,
-        _ => return Err(SceneError::UnknownFormat { path: path.to_path_buf() }),
+    let format = SceneFormat::from_path(path).ok_or_else(|| SceneError::UnknownFormat { path: path.to_path_buf() })?;
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    parse(&bytes, format, path, opts, &|rel: &Path| std::fs::read(base.join(rel)))
+}
+
+/// Parses a scene file's bytes as [`load`] does: `path` names the file in errors (and in the
+/// mesh name of a PLY file); `read` reads the files the scene refers to.
+pub fn parse(bytes: &[u8], format: SceneFormat, path: &Path, opts: &LoadOptions, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
+    let mut scene = match format {
+        SceneFormat::Gltf => super::from_gltf::parse_gltf(bytes, path, read)?,
+        SceneFormat::Obj => super::from_obj::parse_obj(bytes, path, opts.up_axis, read)?,
+        SceneFormat::Ply => super::from_ply::parse_ply(bytes, path, opts.up_axis)?,
     };
     if opts.drop_ceilings {
         scene.meshes.retain(|m| !m.name.to_lowercase().contains("ceiling"));

@@ -52,12 +52,15 @@ impl Default for LoadOptions {
 }
 
 mod from_gltf;
+mod gltf_check;
 mod gltf_texture;
 mod from_obj;
+mod obj_check;
 mod from_ply;
+mod ply_check;
 pub mod house;
 mod loader;
 mod to_glb;
 
-pub use loader::load;
+pub use loader::{load, parse, ReadReferenced, SceneFormat};
 pub use to_glb::{to_glb_bytes, write_glb};

@@ -26,6 +26,12 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let run = run_bench(&o, &|done, total| {
         pb.set_length(total as u64);
         pb.set_position(done as u64);
+        if a.rss_every > 0 && done % a.rss_every == 0 {
+            match resident_kib() {
+                Some(kib) => eprintln!("xhab: rss after episode {done}: {kib} KiB"),
+                None => eprintln!("xhab: rss after episode {done}: unknown (no /proc/self/status)"),
+            }
+        }
     })?;
     pb.finish_and_clear();
     if let Some(note) = &run.renderer_note {
@@ -52,6 +58,13 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         anyhow::bail!("--compare-ros: the run over ROS differs from the in-process run (see ros_check in the JSON)");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The process's resident memory in KiB (`VmRSS` of /proc/self/status; Linux only).
+fn resident_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// The library's benchmark options from `xhab bench`'s flags.
