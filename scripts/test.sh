@@ -65,3 +65,8 @@ export XHAB_REQUIRE_CHROMIUM=1
 cargo test --workspace --locked 2>&1
 # The Python package (crates/python): wheel built into .venv, pytest.
 ./scripts/python_tests.sh
+# The soak's short variant (200 oracle episodes per configuration, resident memory checked);
+# the full 10,000-episode soak (scripts/soak.sh) is outside CI's time budget.
+soak_out="$(mktemp -d)"
+SOAK_SHORT=1 ./scripts/soak.sh "$soak_out"
+rm -rf "$soak_out"
