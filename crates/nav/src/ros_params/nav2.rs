@@ -17,6 +17,8 @@ use std::collections::BTreeMap;
 
 const PARAMS: &str = "ros__parameters";
 const COSTMAP_NODES: [&str; 2] = ["global_costmap", "local_costmap"];
+/// Names that say which plugins run (read above, not translated).
+const STRUCTURE: [&str; 6] = ["plugin", "plugins", "controller_plugins", "goal_checker_plugins", "progress_checker_plugins", "planner_plugins"];
 /// Nav2's layers when a costmap lists no `plugins`.
 const DEFAULT_LAYERS: [(&str, &str); 3] = [("static_layer", "nav2_costmap_2d::StaticLayer"), ("obstacle_layer", "nav2_costmap_2d::ObstacleLayer"), ("inflation_layer", "nav2_costmap_2d::InflationLayer")];
 
@@ -247,6 +249,10 @@ impl Tr<'_> {
                 continue;
             };
             check(value, spec.ty).map_err(|message| ParamError::Value { file: self.file.into(), key: shown.clone(), message })?;
+            // Plugin lists and the types of plugins xhab runs shaped the translation above.
+            if STRUCTURE.contains(&place.name.as_str()) && place.role != Nav2Role::ObservationSource {
+                continue;
+            }
             let Some(ros1) = spec.ros1 else {
                 self.idle.push(shown);
                 continue;

@@ -59,7 +59,6 @@ const fn n(name: &'static str, ty: Ty, default: &'static str, ros1: Option<&'sta
 const B: Ty = Ty::Bool;
 const S: Ty = Ty::Str;
 const L: Ty = Ty::List;
-const A: Ty = Ty::Any;
 const F: Ty = Ty::Float(Range::Any);
 const F0: Ty = Ty::Float(Range::NonNeg);
 const FP: Ty = Ty::Float(Range::Pos);
