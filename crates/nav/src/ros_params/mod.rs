@@ -32,3 +32,5 @@ pub use tree::ParamSource;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod nav2_tests;

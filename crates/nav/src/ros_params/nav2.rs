@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 const PARAMS: &str = "ros__parameters";
 const COSTMAP_NODES: [&str; 2] = ["global_costmap", "local_costmap"];
 /// Names that say which plugins run (read above, not translated).
-const STRUCTURE: [&str; 6] = ["plugin", "plugins", "controller_plugins", "goal_checker_plugins", "progress_checker_plugins", "planner_plugins"];
+const STRUCTURE: [&str; 7] = ["plugin", "plugins", "controller_plugins", "goal_checker_plugins", "progress_checker_plugin", "progress_checker_plugins", "planner_plugins"];
 /// Nav2's layers when a costmap lists no `plugins`.
 const DEFAULT_LAYERS: [(&str, &str); 3] = [("static_layer", "nav2_costmap_2d::StaticLayer"), ("obstacle_layer", "nav2_costmap_2d::ObstacleLayer"), ("inflation_layer", "nav2_costmap_2d::InflationLayer")];
 

@@ -310,12 +310,3 @@ fn every_shipped_parameter_set_loads_without_warnings() {
     }
     assert_eq!(sets, 4);
 }
-
-#[test]
-fn zz_nav2_probe() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/params/nav2/nav2_params.yaml")).unwrap();
-    let l = nav_params_from_sources(&[ParamSource { name: "nav2_params.yaml".into(), text, namespace: String::new() }]).unwrap();
-    for w in &l.warnings { eprintln!("W {w}"); }
-    eprintln!("{:#?}", l.params);
-    panic!();
-}
