@@ -144,7 +144,8 @@ impl Tr<'_> {
             "controller_server" => {
                 let mut dwb = false;
                 for c in list(leaves, "controller_plugins", &["FollowPath"]) {
-                    let ty = string(leaves, &format!("{c}.plugin")).unwrap_or_default();
+                    // No `plugin` (Nav2 would refuse to start): read as DWB's names.
+                    let ty = string(leaves, &format!("{c}.plugin")).unwrap_or("dwb_core::DWBLocalPlanner".into());
                     if ty == "dwb_core::DWBLocalPlanner" && !dwb {
                         dwb = true;
                         plugins.push((c, Nav2Role::Dwb, "DWAPlannerROS/".into()));
@@ -174,11 +175,11 @@ impl Tr<'_> {
                 Some((Nav2Role::PlannerServer, String::new()))
             }
             cm if COSTMAP_NODES.contains(&cm) => {
-                let given = leaves.iter().any(|(k, _)| k == "plugins");
                 let names = list(leaves, "plugins", &DEFAULT_LAYERS.map(|l| l.0));
                 let mut ros1_layers = Vec::new();
                 for l in names {
-                    let default_ty = DEFAULT_LAYERS.iter().find(|d| d.0 == l && !given).map(|d| d.1.to_string());
+                    // A default layer's name without `plugin` is taken as that layer.
+                    let default_ty = DEFAULT_LAYERS.iter().find(|d| d.0 == l).map(|d| d.1.to_string());
                     let ty = string(leaves, &format!("{l}.plugin")).or(default_ty).unwrap_or_default();
                     let (role, ros1_ty) = match ty.as_str() {
                         "nav2_costmap_2d::StaticLayer" => (Some(Nav2Role::StaticLayer), "costmap_2d::StaticLayer".to_string()),
