@@ -199,7 +199,7 @@ fn a_nav2_params_file_drives_the_nav_agent() {
     let eps = d.join("e.json.gz");
     let out = xhab().args(["episodes", "procedural:3", "--count", "2", "--seed", "1", "--out", eps.to_str().unwrap()]).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/nav/params/nav2/nav2_params.yaml");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../nav/params/nav2/nav2_params.yaml");
     let r = d.join("r.json");
     let out = xhab()
         .args(["bench", "--scene", "procedural:3", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", file.to_str().unwrap(), "--out", r.to_str().unwrap(), "--quiet"])
