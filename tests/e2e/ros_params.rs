@@ -189,3 +189,32 @@ fn turtlebot3_files_drive_a_burger_through_turtlebot3_house_under_amcl() {
     assert!(aborted.is_empty(), "{aborted:?}");
     assert!(a["success"].as_f64().unwrap() >= 5.0 / 6.0 && a["spl"].as_f64().unwrap() >= 0.85, "{a}");
 }
+
+/// Issue 21: a Nav2 params file goes to `--nav-params` as it is; the report's `nav.params`
+/// shows its values and stderr its warnings.
+#[test]
+fn a_nav2_params_file_drives_the_nav_agent() {
+    let d = std::env::temp_dir().join(format!("xhab-params-nav2-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let eps = d.join("e.json.gz");
+    let out = xhab().args(["episodes", "procedural:3", "--count", "2", "--seed", "1", "--out", eps.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../nav/params/nav2/nav2_params.yaml");
+    let r = d.join("r.json");
+    let out = xhab()
+        .args(["bench", "--scene", "procedural:3", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--nav-params", file.to_str().unwrap(), "--out", r.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.lines().any(|l| l.starts_with("xhab: warning: ") && l.contains("without effect in xhab") && l.contains("bt_navigator/bt_loop_duration")), "{stderr}");
+    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
+    let p = &j["nav"]["params"];
+    eprintln!("Nav2 file on procedural:3: {}", j["aggregate"]);
+    assert_eq!(j["episodes"].as_array().unwrap().len(), 2);
+    assert_eq!(p["DWAPlannerROS"]["max_vel_x"].as_f64(), Some(0.22), "{p}");
+    assert_eq!(p["DWAPlannerROS"]["vth_samples"].as_f64(), Some(40.0), "{p}");
+    assert_eq!(p["DWAPlannerROS"]["path_distance_bias"].as_f64(), Some(30.0), "{p}");
+    assert_eq!(p["global_costmap"]["inflation_radius"].as_f64(), Some(0.5), "{p}");
+    assert_eq!(p["local_costmap"]["robot_radius"].as_f64(), Some(0.105), "{p}");
+}

@@ -5,12 +5,14 @@ use std::path::PathBuf;
 use xhab_nav::ros_params::ParamFile;
 
 /// `--nav-params`, short help.
-const NAV_PARAMS_HELP: &str = "Navigation parameters: ROS 1 YAML as move_base and amcl read it, FILE[@NAMESPACE], repeatable";
+const NAV_PARAMS_HELP: &str = "Navigation parameters: ROS 1 YAML as move_base and amcl read it, or a Nav2 params file, FILE[@NAMESPACE], repeatable";
 
 /// `--nav-params`, long help.
 const NAV_PARAMS_LONG_HELP: &str = "Navigation parameters: ROS 1 YAML as move_base and amcl read it, FILE[@NAMESPACE], repeatable.
 
 Files are layered as roslaunch's <rosparam file=FILE ns=NAMESPACE> loads them: later files override single keys of earlier ones. Keys use ROS's names in move_base's private namespace (its own names, global_costmap/, local_costmap/, DWAPlannerROS/, GlobalPlanner/ or NavfnROS/) and amcl's (amcl/, or at the top). Keys xhab does not use are warned about, never rejected; wrong types and values out of range are errors naming the file and key. A costmap whose shape the files do not give (footprint, robot_radius) takes the robot's.
+
+Nav2 (ROS 2) params files are read too, with no other option: a file whose top-level values hold ros__parameters (controller_server, planner_server, global_costmap/global_costmap, local_costmap/local_costmap, amcl, ...) is read by Nav2's names (DWB's FollowPath, the goal and progress checkers, NavFn's GridBased, the costmap layers) where xhab has the concept, and layered with the other files in order; @NAMESPACE then keeps only the nodes under that namespace. The same rules hold: unknown names are warnings with the nearest Nav2 name, bad values are errors naming the file and the node/parameter key.
 
 Example (TurtleBot3's files, as move_base.launch loads them):
   --nav-params costmap_common_params_burger.yaml@global_costmap

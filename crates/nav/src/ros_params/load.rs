@@ -18,6 +18,7 @@
 //! disagreement is a warning.
 
 use super::error::ParamError;
+use super::nav2::{is_nav2, translate};
 use super::layout::{old_layers, parse_plugins, parse_sources, LayerKind, Layout, Source};
 use super::registry::{names, spec, Effect, ParamSpec, RosNode};
 use super::suggest::nearest;
@@ -82,9 +83,59 @@ impl LoadedParams {
 /// assert!(loaded.warnings[0].contains("did you mean `max_vel_x`"));
 /// assert!(loaded.warnings[1].contains("shutdown_costmaps"));
 /// ```
+///
+/// A Nav2 (ROS 2) file, one whose top-level values hold `ros__parameters`, is read by Nav2's
+/// names and layered in its place (see [`super::nav2`]); its namespace, if any, keeps only the
+/// nodes under it. Warnings and errors then name its keys as Nav2 writes them.
 pub fn nav_params_from_sources(sources: &[ParamSource]) -> Result<LoadedParams, ParamError> {
-    let tree = ParamTree::build(sources)?;
-    Loader::new(&tree).run()
+    let mut ros1 = Vec::with_capacity(sources.len());
+    let mut nav2_warnings = Vec::new();
+    let mut idle = Vec::new();
+    let mut keys = BTreeMap::new();
+    for s in sources {
+        if is_nav2(&s.text) {
+            let t = translate(&s.name, &s.text, &s.namespace)?;
+            nav2_warnings.extend(t.warnings);
+            idle.extend(t.idle);
+            keys.extend(t.keys.into_iter().map(|(k, v)| (k, (s.name.clone(), v))));
+            ros1.push(t.source);
+        } else {
+            ros1.push(s.clone());
+        }
+    }
+    let tree = ParamTree::build(&ros1)?;
+    let mut loaded = Loader::new(&tree).run().map_err(|e| match e {
+        ParamError::Value { file, key, message } => {
+            let key = keys.get(&key).filter(|(f, _)| *f == file).map(|(_, k)| k.clone()).unwrap_or(key);
+            ParamError::Value { file, key, message }
+        }
+        other => other,
+    })?;
+    if keys.is_empty() && idle.is_empty() && nav2_warnings.is_empty() {
+        return Ok(loaded);
+    }
+    let mut warnings = nav2_warnings;
+    for w in std::mem::take(&mut loaded.warnings) {
+        if let Some((_, list)) = w.split_once(IDLE_MARK) {
+            idle.extend(list.split(", ").map(|k| keys.get(k).map(|(_, n)| n.clone()).unwrap_or_else(|| k.to_string())));
+            continue;
+        }
+        // `FILE: KEY: message` with a translated KEY names the Nav2 key.
+        let renamed = keys.iter().find_map(|(k, (file, n))| w.strip_prefix(&format!("{file}: {k}: ")).map(|rest| format!("{file}: {n}: {rest}")));
+        warnings.push(renamed.unwrap_or(w));
+    }
+    if !idle.is_empty() {
+        warnings.push(idle_line(&idle));
+    }
+    loaded.warnings = warnings;
+    Ok(loaded)
+}
+
+/// What the line listing keys without effect says before the keys.
+const IDLE_MARK: &str = " ROS parameter(s) without effect in xhab (not implemented, or overridden): ";
+
+fn idle_line<S: AsRef<str>>(keys: &[S]) -> String {
+    format!("{}{IDLE_MARK}{}", keys.len(), keys.iter().map(AsRef::as_ref).collect::<Vec<_>>().join(", "))
 }
 
 /// How a key was classified.
@@ -183,7 +234,7 @@ impl<'a> Loader<'a> {
         idle.sort_by_key(|e| e.1.seq);
         if !idle.is_empty() {
             let keys: Vec<&str> = idle.iter().map(|e| e.0).collect();
-            warnings.push(format!("{} ROS parameter(s) without effect in xhab (not implemented, or overridden): {}", keys.len(), keys.join(", ")));
+            warnings.push(idle_line(&keys));
         }
         Ok(LoadedParams { params: p, warnings, global_shape_given: shape_given[0], local_shape_given: shape_given[1] })
     }

@@ -282,7 +282,8 @@ fn every_shipped_parameter_set_loads_without_warnings() {
     let mut sets = 0;
     for entry in std::fs::read_dir(&root).unwrap() {
         let dir = entry.unwrap().path();
-        if !dir.is_dir() {
+        // nav2/ holds Nav2 files (nav2_tests.rs loads them).
+        if !dir.is_dir() || dir.ends_with("nav2") {
             continue;
         }
         let f = |name: &str, ns: &str| ParamFile { path: dir.join(name), namespace: ns.into() };
