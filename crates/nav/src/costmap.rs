@@ -116,7 +116,7 @@ impl Costmap {
         // The map's outside is an obstacle: distances reach at most across the nearest edge.
         for (i, di) in d.iter_mut().enumerate() {
             let (c, r) = (i % w, i / w);
-            *di = di.min((c + 1).min(r + 1).min(w - c).min(h - r) as f64);
+            *di = di.min(border_cells(c, r, w, h) as f64);
         }
         let mut cost = vec![FREE; w * h];
         for i in 0..w * h {
@@ -152,6 +152,12 @@ impl Costmap {
     pub fn cost_at(&self, p: Point2) -> u8 {
         self.cell(p).map_or(LETHAL, |(c, r)| self.cost[r * self.width + c])
     }
+}
+
+/// Cells from cell (`c`, `r`) to the nearest cell off a `w` x `h` map: straight across the
+/// nearest edge (the map's outside counts as an obstacle to both costmaps).
+pub(crate) fn border_cells(c: usize, r: usize, w: usize, h: usize) -> usize {
+    (c + 1).min(r + 1).min(w - c).min(h - r)
 }
 
 /// The cell index `floor(x)` along an axis of `n` cells, if in `0..n` (`x` in cells; NaN is

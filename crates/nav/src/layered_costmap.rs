@@ -45,7 +45,7 @@ pub struct LayeredCostmap {
 /// Squared distance (cells^2) from cell (`c`, `r`) to the nearest cell off a `w` x `h` map:
 /// straight across the nearest edge; capped at [`FAR`].
 pub(crate) fn border_d2(c: usize, r: usize, w: usize, h: usize) -> u32 {
-    let border = (c + 1).min(r + 1).min(w - c).min(h - r) as u64;
+    let border = crate::costmap::border_cells(c, r, w, h) as u64;
     (border * border).min(FAR as u64) as u32
 }
 
