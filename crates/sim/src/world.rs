@@ -1,6 +1,6 @@
 //! A loaded scene with its floors and their navigation grids, shared between episodes.
 
-use crate::navgrid::{detect_floors, AgentParams, Floor, NavGrid, NavGridError};
+use crate::navgrid::{detect_floors, AgentParams, Floor, NavGrid, NavGridError, StoreyBounds};
 use crate::scene::Scene;
 use std::sync::{Arc, OnceLock};
 
@@ -50,10 +50,20 @@ impl World {
         best.map(|b| b.1)
     }
 
+    /// The floor heights of the storeys below and above floor `i` (m).
+    pub fn storey_bounds(&self, i: usize) -> StoreyBounds {
+        StoreyBounds {
+            below: i.checked_sub(1).and_then(|k| self.floors.get(k)).map(|f| f.z),
+            above: self.floors.get(i + 1).map(|f| f.z),
+        }
+    }
+
     /// The navigation grid of floor `i`, built on first use.
     pub fn grid(&self, i: usize) -> Result<Arc<NavGrid>, NavGridError> {
         let cell = self.grids.get(i).ok_or_else(|| NavGridError::NoFloor(format!(": no floor number {i}")))?;
-        cell.get_or_init(|| NavGrid::build(&self.scene, &self.params, self.floors[i].z).map(Arc::new).map_err(|e| e.to_string()))
+        cell.get_or_init(|| {
+            NavGrid::build_storey(&self.scene, &self.params, self.floors[i].z, self.storey_bounds(i)).map(Arc::new).map_err(|e| e.to_string())
+        })
             .clone()
             .map_err(NavGridError::NoFloor)
     }

@@ -8,3 +8,4 @@ mod geodesic_vs_field;
 mod raster;
 mod gpu;
 mod textures;
+mod storeys;

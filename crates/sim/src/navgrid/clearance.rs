@@ -26,6 +26,34 @@ pub(crate) fn band_segments(tri: &[[f64; 3]; 3], lo: f64, hi: f64, out: &mut Vec
     }
 }
 
+/// Adds the edges of the part of `tri` between heights `lo` and `hi`, projected to 2D, each
+/// with the height range (m) of the piece it bounds. A sloped triangle is cut into slices of
+/// [`SLICE`] so that a cell sees only the part of it within its own body band (to a slice);
+/// an upright one projects to the same line at every height and is kept whole.
+pub(crate) fn band_segments_sliced(tri: &[[f64; 3]; 3], lo: f64, hi: f64, out: &mut Vec<(Seg, [f32; 2])>) {
+    let zlo = tri[0][2].min(tri[1][2]).min(tri[2][2]).max(lo);
+    let zhi = tri[0][2].max(tri[1][2]).max(tri[2][2]).min(hi);
+    if zhi < zlo {
+        return;
+    }
+    let upright = super::raster::abs_normal_z(tri).is_none_or(|nz| nz < 1e-3);
+    let mut edges = Vec::new();
+    let mut a = zlo;
+    loop {
+        let b = if upright { zhi } else { (a + SLICE).min(zhi) };
+        edges.clear();
+        band_segments(tri, a, b, &mut edges);
+        out.extend(edges.iter().map(|s| (*s, [a as f32, b as f32])));
+        if b >= zhi {
+            break;
+        }
+        a = b;
+    }
+}
+
+/// Height of the slices a sloped obstacle is cut into on a storey with stairs (m).
+pub(crate) const SLICE: f64 = 0.1;
+
 /// Removes duplicate segments (shared mesh edges) in place, keeping a canonical order.
 pub(crate) fn dedup_segments(segs: &mut Vec<Seg>) {
     const Q: f64 = 1e5; // 10 micrometre quantum
@@ -70,6 +98,17 @@ pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
 /// Exact distance (m, capped at `cap`) from each cell centre to the segments, and the index of
 /// the nearest segment of each cell within the cap (`u32::MAX` beyond it).
 pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap: f64) -> (Vec<f32>, Vec<u32>) {
+    segment_distance_where(spec, segs, cap, |_, _| true)
+}
+
+/// [`segment_distance`] counting for cell `i` only the segments `k` that `counts(k, i)` accepts
+/// (on a storey with stairs: those within the body band above the cell's own ground).
+pub(crate) fn segment_distance_where(
+    spec: &super::raster::GridSpec,
+    segs: &[Seg],
+    cap: f64,
+    counts: impl Fn(usize, usize) -> bool,
+) -> (Vec<f32>, Vec<u32>) {
     let n = spec.w * spec.h;
     let mut dist = vec![cap as f32; n];
     let mut near = vec![u32::MAX; n];
@@ -93,7 +132,7 @@ pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap
                 let q = closest_on_segment([px, py], s);
                 let d2 = (q[0] - px).powi(2) + (q[1] - py).powi(2);
                 let i = r * spec.w + c;
-                if d2 < best[i] {
+                if d2 < best[i] && counts(k, i) {
                     best[i] = d2;
                     near[i] = k as u32;
                 }

@@ -43,6 +43,9 @@ pub fn detect_floors(scene: &Scene, params: &AgentParams) -> Vec<Floor> {
             _ => clusters.push(vec![(b, a)]),
         }
     }
+    // A staircase chains the bins of two storeys into one cluster (each tread is within
+    // max_climb of the next): split such a cluster at its storeys' slabs.
+    let clusters: Vec<Vec<(i64, f64)>> = clusters.into_iter().flat_map(|c| split_storeys(c, gap)).collect();
     let totals: Vec<f64> = clusters.iter().map(|c| c.iter().map(|x| x.1).sum()).collect();
     let largest = totals.iter().cloned().fold(0.0, f64::max);
     let mut floors = Vec::new();
@@ -57,6 +60,44 @@ pub fn detect_floors(scene: &Scene, params: &AgentParams) -> Vec<Floor> {
     }
     floors
 }
+
+/// Splits a cluster of height bins that spans more than two climbs (a staircase or ramp
+/// joining storeys) at its slabs: bins holding at least [`SLAB_SHARE`] of the cluster's
+/// largest bin and at least 1 m^2, each with the bins within `gap` of it; the bins between
+/// slabs (the treads) go with the nearer slab. A cluster within two climbs is kept whole, so
+/// a single storey's floor is found as before.
+fn split_storeys(c: Vec<(i64, f64)>, gap: i64) -> Vec<Vec<(i64, f64)>> {
+    let (lo, hi) = (c[0].0, c[c.len() - 1].0);
+    if hi - lo <= 2 * gap {
+        return vec![c];
+    }
+    let peak = c.iter().map(|x| x.1).fold(0.0, f64::max);
+    // Slab bins, largest first; a bin within 2 gaps of a chosen slab belongs to it.
+    let mut order: Vec<&(i64, f64)> = c.iter().filter(|x| x.1 >= SLAB_SHARE * peak && x.1 >= 1.0).collect();
+    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut slabs: Vec<i64> = Vec::new();
+    for x in order {
+        if slabs.iter().all(|s| (s - x.0).abs() > 2 * gap) {
+            slabs.push(x.0);
+        }
+    }
+    if slabs.len() < 2 {
+        return vec![c];
+    }
+    slabs.sort();
+    let mut out: Vec<Vec<(i64, f64)>> = vec![Vec::new(); slabs.len()];
+    for x in c {
+        let k = (0..slabs.len()).min_by_key(|&k| ((slabs[k] - x.0).abs(), k)).unwrap_or(0);
+        // Treads count towards a storey only near its slab: a flight's middle is no floor.
+        if (slabs[k] - x.0).abs() <= gap {
+            out[k].push(x);
+        }
+    }
+    out
+}
+
+/// A bin holding at least this share of its cluster's largest bin may be a storey's slab.
+const SLAB_SHARE: f64 = 0.25;
 
 fn exact_height(scene: &Scene, bin: i64, cos_slope: f64) -> f64 {
     let (mut sa, mut sz) = (0.0, 0.0);

@@ -9,9 +9,11 @@
 mod clearance;
 mod floors;
 mod slice;
+mod stairs;
 pub(crate) mod raster;
 
 pub use floors::{detect_floors, Floor};
+pub use stairs::StoreyBounds;
 pub(crate) use clearance::closest_on_segment;
 
 use crate::scene::Scene;
@@ -109,6 +111,10 @@ pub struct NavGrid {
     pub(crate) anchor: Vec<[f64; 2]>,
     /// The obstacle segments (m): scene geometry in the body band, projected to the ground.
     pub(crate) segments: Vec<clearance::Seg>,
+    /// Height range of each segment's piece (m), on a storey with stairs (empty otherwise).
+    pub(crate) seg_band: Vec<[f32; 2]>,
+    /// True on stair cells, on a storey with stairs (empty otherwise).
+    pub(crate) stair: Vec<bool>,
     /// Index of the segment nearest to each cell centre, when a segment is the nearest
     /// obstacle and within reach (`u32::MAX` otherwise).
     pub(crate) nearest: Vec<u32>,
@@ -132,6 +138,15 @@ impl NavGrid {
 
     /// Builds the navigable region of `scene` on the floor at height `floor_z` (m).
     pub fn build(scene: &Scene, params: &AgentParams, floor_z: f64) -> Result<NavGrid, NavGridError> {
+        Self::build_storey(scene, params, floor_z, StoreyBounds::default())
+    }
+
+    /// Builds the navigable region of the storey whose floor is at `floor_z` (m), with the
+    /// flights of stairs that join it to the storeys at `bounds` (see [`stairs`]). Without a
+    /// flight the grid is exactly [`NavGrid::build`]'s; with one, every cell's body band
+    /// stands on its own ground and a drop of more than `max_climb` between neighbouring cells
+    /// is an edge like the floor's.
+    pub fn build_storey(scene: &Scene, params: &AgentParams, floor_z: f64, bounds: StoreyBounds) -> Result<NavGrid, NavGridError> {
         validate(params)?;
         let b = scene.bounds();
         if b.is_empty() {
@@ -194,12 +209,76 @@ impl NavGrid {
         if ground.iter().all(|g| g.is_nan()) {
             return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
         }
-        fill_enclosed(&mut occupied, &ground, &roof, &spec);
-        clearance::dedup_segments(&mut segs);
         let cap = params.radius + 4.0 * res;
-        let (mut clear, mut nearest) = clearance::segment_distance(&spec, &segs, cap);
-        // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
-        let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+        let stairs = stairs::find(scene, params, &spec, floor_z, bounds, &ground);
+        let mut seg_band = Vec::new();
+        let (mut clear, mut nearest, no_floor) = if let Some(st) = &stairs {
+            // Each cell's body band stands on its own ground (the floor's band where none).
+            ground = st.ground.clone();
+            let band = |i: usize| {
+                let g = if ground[i].is_finite() { ground[i] as f64 } else { floor_z };
+                (g + params.max_climb, g + params.height)
+            };
+            let (gmin, gmax) = ground.iter().filter(|g| g.is_finite()).fold((floor_z, floor_z), |(a, b), &g| (a.min(g as f64), b.max(g as f64)));
+            let (wide_lo, wide_hi) = (gmin + params.max_climb, gmax + params.height);
+            occupied.iter_mut().for_each(|o| *o = false);
+            roof.iter_mut().for_each(|r| *r = (f32::INFINITY, false));
+            let mut banded = Vec::new();
+            for t in scene.triangles() {
+                let t = t.map(|p| p.map(|v| v as f64));
+                let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
+                let zhi = t[0][2].max(t[1][2]).max(t[2][2]);
+                if zhi <= wide_lo && zhi < gmin - params.max_climb {
+                    continue;
+                }
+                let faces_up = raster::normal_z_sign(&t) > 0.0;
+                raster::for_each_cell(&spec, &t, |c, r, lo, hi| {
+                    let i = r * w + c;
+                    let (blo, bhi) = band(i);
+                    if lo >= bhi && (lo as f32) < roof[i].0 {
+                        roof[i] = (lo as f32, faces_up);
+                    }
+                    if hi > blo && lo < bhi {
+                        occupied[i] = true;
+                    }
+                });
+                if zhi > wide_lo && zlo < wide_hi {
+                    clearance::band_segments_sliced(&t, wide_lo, wide_hi, &mut banded);
+                }
+            }
+            fill_enclosed(&mut occupied, &ground, &roof, &spec);
+            banded.sort_by(|a, b| {
+                let k = |s: &(clearance::Seg, [f32; 2])| [s.0[0][0], s.0[0][1], s.0[1][0], s.0[1][1], s.1[0] as f64, s.1[1] as f64];
+                let (ka, kb) = (k(a), k(b));
+                ka.iter().zip(&kb).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal)
+            });
+            banded.dedup();
+            segs = banded.iter().map(|s| s.0).collect();
+            seg_band = banded.iter().map(|s| s.1).collect();
+            let (c, near) = clearance::segment_distance_where(&spec, &segs, cap, |k, i| {
+                let (blo, bhi) = band(i);
+                seg_band[k][1] as f64 > blo && (seg_band[k][0] as f64) < bhi
+            });
+            // A drop of more than a climb to a neighbour is an edge, as the floor's is.
+            let mut edge_mask: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+            for i in 0..n {
+                if ground[i].is_nan() {
+                    continue;
+                }
+                let (cc, rr) = (i % w, i / w);
+                let higher = |j: usize| ground[j].is_finite() && (ground[j] - ground[i]) as f64 > params.max_climb;
+                if (cc > 0 && higher(i - 1)) || (cc + 1 < w && higher(i + 1)) || (rr > 0 && higher(i - w)) || (rr + 1 < h && higher(i + w)) {
+                    edge_mask[i] = true;
+                }
+            }
+            (c, near, edge_mask)
+        } else {
+            fill_enclosed(&mut occupied, &ground, &roof, &spec);
+            clearance::dedup_segments(&mut segs);
+            let (c, near) = clearance::segment_distance(&spec, &segs, cap);
+            // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
+            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>())
+        };
         let edge = clearance::edt(&no_floor, w, h);
         for i in 0..n {
             if occupied[i] || no_floor[i] {
@@ -224,6 +303,8 @@ impl NavGrid {
             corner: vec![false; n],
             anchor: Vec::new(),
             segments: segs,
+            seg_band,
+            stair: stairs.map(|s| s.stair).unwrap_or_default(),
             nearest,
             fields: Default::default(),
             corner_graph: Default::default(),
@@ -282,6 +363,23 @@ impl NavGrid {
         let a = v(c, r) * (1.0 - tx) + v(c + 1, r) * tx;
         let b = v(c, r + 1) * (1.0 - tx) + v(c + 1, r + 1) * tx;
         a * (1.0 - ty) + b * ty
+    }
+
+    /// Height of the walking surface under `p` (m): the floor, or on a flight the tread under
+    /// it; `None` off the grid or where there is no surface.
+    pub fn ground_at(&self, p: Point2) -> Option<f64> {
+        let i = self.cell_of(p)?;
+        self.ground[i].is_finite().then_some(self.ground[i] as f64)
+    }
+
+    /// Whether this storey has a flight of stairs to another storey.
+    pub fn has_stairs(&self) -> bool {
+        !self.stair.is_empty()
+    }
+
+    /// Whether `p` lies on a flight of stairs (m, planar).
+    pub fn on_stairs(&self, p: Point2) -> bool {
+        self.cell_of(p).is_some_and(|i| self.stair.get(i).copied().unwrap_or(false))
     }
 
     /// Whether the agent fits at `p` (m, planar) on this floor.

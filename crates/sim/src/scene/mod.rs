@@ -59,6 +59,7 @@ mod obj_check;
 mod from_ply;
 mod ply_check;
 pub mod house;
+pub mod stair_building;
 mod loader;
 mod to_glb;
 
