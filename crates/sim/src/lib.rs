@@ -2,7 +2,7 @@
 //!
 //! Read in this order: [`scene`] (triangle soup in the world frame, from glTF/OBJ/PLY or the
 //! procedural house), [`navgrid`] (the traversable region of a disc agent on one floor),
-//! [`geodesic`] (shortest paths in that region), [`episode`] (PointNav episodes: files and
+//! [`geodesic`] (shortest paths in that region), [`storey_path`] (across storeys, up stairs), [`episode`] (PointNav episodes: files and
 //! generator), [`env`] (the discrete simulator) and [`metrics`].
 //!
 //! Frames: the world frame is REP-103 (z up). Habitat files use y up; they are converted once,
@@ -22,6 +22,7 @@ pub mod kinematic;
 pub mod metrics;
 pub mod oracle;
 pub mod world;
+pub mod storey_path;
 pub mod robot;
 pub mod physics_env;
 pub mod sensors;

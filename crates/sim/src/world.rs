@@ -2,7 +2,9 @@
 
 use crate::navgrid::{detect_floors, AgentParams, Floor, NavGrid, NavGridError, StoreyBounds};
 use crate::scene::Scene;
+use crate::storey_path::Portal;
 use std::sync::{Arc, OnceLock};
+use xhab_types::{Point2, Point3};
 
 /// How far an episode's start may be from a floor's height to belong to it (m), as
 /// Habitat's same-floor rule.
@@ -19,6 +21,7 @@ pub struct World {
     /// The floors, lowest first.
     pub floors: Vec<Floor>,
     grids: Vec<OnceLock<Result<Arc<NavGrid>, String>>>,
+    portals: OnceLock<Vec<Portal>>,
 }
 
 impl World {
@@ -26,7 +29,7 @@ impl World {
     pub fn new(scene: Scene, params: AgentParams) -> World {
         let floors = detect_floors(&scene, &params);
         let grids = floors.iter().map(|_| OnceLock::new()).collect();
-        World { scene: Arc::new(scene), params, floors, grids }
+        World { scene: Arc::new(scene), params, floors, grids, portals: OnceLock::new() }
     }
 
     /// The floor `auto` means: the lowest detected floor.
@@ -48,6 +51,36 @@ impl World {
             }
         }
         best.map(|b| b.1)
+    }
+
+    /// Where adjacent storeys' grids overlap on their flights of stairs, found on first use.
+    pub fn portals(&self) -> &[Portal] {
+        self.portals.get_or_init(|| crate::storey_path::find_portals(self))
+    }
+
+    /// Pairs of storeys (lower, upper) that a flight of stairs joins.
+    pub fn connected_storeys(&self) -> Vec<(usize, usize)> {
+        let mut out: Vec<(usize, usize)> = self.portals().iter().map(|p| (p.lower, p.lower + 1)).collect();
+        out.dedup();
+        out
+    }
+
+    /// The storey `p` (m) stands on: among the storeys whose grid has a walking surface
+    /// within `max_climb` of `p.z` under `p` and lets the agent stand there, the one whose
+    /// floor is nearest in height (on a flight both storeys qualify); otherwise the floor
+    /// within [`FLOOR_MATCH`] of `p.z`, as [`World::floor_at`].
+    pub fn storey_of(&self, p: Point3) -> Option<usize> {
+        let q = Point2::new(p.x, p.y);
+        let mut best: Option<(f64, usize)> = None;
+        for (i, f) in self.floors.iter().enumerate() {
+            let Ok(g) = self.grid(i) else { continue };
+            let on = g.ground_at(q).is_some_and(|z| (z - p.z).abs() <= self.params.max_climb) && g.is_navigable(q);
+            let d = (f.z - p.z).abs();
+            if on && best.is_none_or(|b| d < b.0) {
+                best = Some((d, i));
+            }
+        }
+        best.map(|b| b.1).or_else(|| self.floor_at(p.z))
     }
 
     /// The floor heights of the storeys below and above floor `i` (m).

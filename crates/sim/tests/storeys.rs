@@ -1,9 +1,10 @@
 //! Buildings with storeys and stairs: floors, storey grids joined by their flights.
 
 use xhab_sim::navgrid::AgentParams;
-use xhab_sim::scene::stair_building::{stair_building, StairBuildingParams};
+use xhab_sim::scene::stair_building::{stair_building, Partition, StairBuildingParams};
+use xhab_sim::storey_path;
 use xhab_sim::world::World;
-use xhab_types::Point2;
+use xhab_types::{Point2, Point3};
 
 #[test]
 fn the_stair_building_has_two_storeys_whose_grids_share_the_flight() {
@@ -23,30 +24,88 @@ fn the_stair_building_has_two_storeys_whose_grids_share_the_flight() {
     // One island per storey reaches the flight.
     assert_eq!(g0.island_at(Point2::new(1.0, 2.0)), g0.island_at(mid));
     assert_eq!(g1.island_at(Point2::new(9.0, 2.0)), g1.island_at(mid));
-    for (k, g) in [&g0, &g1].iter().enumerate() {
-        eprintln!("storey {k}: {} navigable cells, {} islands", g.navigable_cells(), g.islands.len());
-    }
 }
 
 #[test]
-fn dump_stair_profile() {
+fn a_point_on_the_flight_is_navigable_at_the_height_of_the_tread_under_it() {
     let p = StairBuildingParams::default();
     let world = World::new(stair_building(&p), AgentParams::default());
-    for k in 0..2 {
-        let g = world.grid(k).unwrap();
-        let mut line = String::new();
-        for i in 0..100 {
-            let x = 2.0 + i as f64 * 0.07;
-            let q = Point2::new(x, 0.55);
-            line += &format!("{:.2}:{}{} ", g.ground_at(q).unwrap_or(f64::NAN), if g.is_navigable(q) { "N" } else { "-" }, if g.on_stairs(q) { "s" } else { "" });
+    for storey in 0..2 {
+        let g = world.grid(storey).unwrap();
+        // Steps 2 to 14 belong to both storeys' grids (1 and 15 are within a climb of a floor).
+        for k in 2..=14 {
+            let q = Point2::new(p.stair_x + (k as f64 - 0.5) * p.tread, 0.55);
+            let z = g.ground_at(q).unwrap();
+            assert!((z - k as f64 * p.riser()).abs() < 1e-4, "storey {storey}, step {k}: ground {z}");
+            assert!(g.is_navigable(q) && g.on_stairs(q), "storey {storey}, step {k}");
         }
-        eprintln!("storey {k}: {line}");
-        let mut line = String::new();
-        for i in 0..40 {
-            let y = 0.0 + i as f64 * 0.1;
-            let q = Point2::new(5.1, y);
-            line += &format!("{:.2}:{} ", g.ground_at(q).unwrap_or(f64::NAN), if g.is_navigable(q) { "N" } else { "-" });
-        }
-        eprintln!("storey {k} across: {line}");
+        // Beside the flight, the floor below is walled off by the flight's side (a drop).
+        assert!(!g.is_navigable(Point2::new(p.stair_x + 7.5 * p.tread, p.stair_y().1 + 0.05)));
     }
+}
+
+/// Planar tangent points from `p` to the circle at `c` of radius `r`, as angles (rad).
+fn tangent_angles(p: [f64; 2], c: [f64; 2], r: f64) -> (f64, f64) {
+    let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+    let (a, b) = (dy.atan2(dx), (r / dx.hypot(dy)).acos());
+    (a + b, a - b)
+}
+
+fn on_circle(c: [f64; 2], r: f64, t: f64) -> [f64; 2] {
+    [c[0] + r * t.cos(), c[1] + r * t.sin()]
+}
+
+fn d2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn within(got: f64, want: f64, what: &str) {
+    let err = (got - want).abs() / want;
+    eprintln!("{what}: {got:.4} m against {want:.4} m ({:.3}%)", 100.0 * err);
+    assert!(err <= 0.005, "{what}: {got} against the closed form {want} ({:.3}%)", 100.0 * err);
+}
+
+#[test]
+fn a_straight_climb_is_one_leg_from_the_floor_below_to_the_floor_above() {
+    let p = StairBuildingParams::default();
+    let world = World::new(stair_building(&p), AgentParams::default());
+    let (a, b) = (Point3::new(1.0, 0.55, 0.0), Point3::new(9.0, 0.55, p.storey_height));
+    assert_eq!((world.storey_of(a), world.storey_of(b)), (Some(0), Some(1)));
+    assert_eq!(world.connected_storeys(), vec![(0, 1)]);
+    let want = (8.0f64.powi(2) + p.storey_height.powi(2)).sqrt();
+    within(storey_path::distance(&world, a, b), want, "straight up the flight");
+    // The same backwards.
+    within(storey_path::distance(&world, b, a), want, "straight down the flight");
+}
+
+#[test]
+fn a_climb_round_a_partition_bends_on_the_floor_below_as_the_closed_form_says() {
+    let mut p = StairBuildingParams::default();
+    p.partition = Some(Partition { x: 2.0, from_y: 0.45, thickness: 0.1 });
+    let world = World::new(stair_building(&p), AgentParams::default());
+    let r = world.params.radius;
+    let (a, b) = ([1.0, 3.0], [9.0, 0.55]);
+    // Around the partition's two lower corners (circles of the agent's radius), then one
+    // straight leg up the flight.
+    let (c1, c2) = ([1.95, 0.45], [2.05, 0.45]);
+    let t1 = tangent_angles(a, c1, r).0; // left of c1
+    let t2 = tangent_angles(b, c2, r).1 + 2.0 * std::f64::consts::PI; // below c2
+    let down = 1.5 * std::f64::consts::PI;
+    let flat = d2(a, on_circle(c1, r, t1)) + r * (down - t1) + d2(c1, c2) + r * (t2 - down);
+    let last = d2(on_circle(c2, r, t2), b);
+    let want = flat + (last.powi(2) + p.storey_height.powi(2)).sqrt();
+    let got = storey_path::distance(&world, Point3::new(a[0], a[1], 0.0), Point3::new(b[0], b[1], p.storey_height));
+    within(got, want, "round the partition and up");
+}
+
+#[test]
+fn storeys_no_flight_joins_are_infinitely_far_apart() {
+    let p = StairBuildingParams { stairs: false, ..Default::default() };
+    let world = World::new(stair_building(&p), AgentParams::default());
+    assert_eq!(world.floors.len(), 2);
+    assert!(world.connected_storeys().is_empty());
+    let d = storey_path::distance(&world, Point3::new(1.0, 0.55, 0.0), Point3::new(9.0, 0.55, p.storey_height));
+    assert!(d.is_infinite(), "{d}");
+    // Each storey alone is still walkable.
+    assert!(storey_path::distance(&world, Point3::new(1.0, 0.55, 0.0), Point3::new(9.0, 0.55, 0.0)).is_finite());
 }

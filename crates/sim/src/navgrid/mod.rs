@@ -111,8 +111,6 @@ pub struct NavGrid {
     pub(crate) anchor: Vec<[f64; 2]>,
     /// The obstacle segments (m): scene geometry in the body band, projected to the ground.
     pub(crate) segments: Vec<clearance::Seg>,
-    /// Height range of each segment's piece (m), on a storey with stairs (empty otherwise).
-    pub(crate) seg_band: Vec<[f32; 2]>,
     /// True on stair cells, on a storey with stairs (empty otherwise).
     pub(crate) stair: Vec<bool>,
     /// Index of the segment nearest to each cell centre, when a segment is the nearest
@@ -211,7 +209,6 @@ impl NavGrid {
         }
         let cap = params.radius + 4.0 * res;
         let stairs = stairs::find(scene, params, &spec, floor_z, bounds, &ground);
-        let mut seg_band = Vec::new();
         let (mut clear, mut nearest, no_floor) = if let Some(st) = &stairs {
             // Each cell's body band stands on its own ground (the floor's band where none).
             ground = st.ground.clone();
@@ -254,7 +251,7 @@ impl NavGrid {
             });
             banded.dedup();
             segs = banded.iter().map(|s| s.0).collect();
-            seg_band = banded.iter().map(|s| s.1).collect();
+            let seg_band: Vec<[f32; 2]> = banded.iter().map(|s| s.1).collect();
             let (c, near) = clearance::segment_distance_where(&spec, &segs, cap, |k, i| {
                 let (blo, bhi) = band(i);
                 seg_band[k][1] as f64 > blo && (seg_band[k][0] as f64) < bhi
@@ -303,7 +300,6 @@ impl NavGrid {
             corner: vec![false; n],
             anchor: Vec::new(),
             segments: segs,
-            seg_band,
             stair: stairs.map(|s| s.stair).unwrap_or_default(),
             nearest,
             fields: Default::default(),
