@@ -6,6 +6,8 @@ use crate::goal_field::GoalField;
 use crate::kinematic::try_step;
 use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
+use crate::storey_route::StoreyRoute;
+use crate::world::World;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use xhab_types::{normalize_angle, Point2, Pose2};
@@ -69,6 +71,21 @@ pub enum InvalidEpisode {
     /// The episode has no goal.
     #[error("the episode has no goal")]
     NoGoal,
+    /// A point of the episode stands on no storey of the scene.
+    #[error("{what} ({x:.3}, {y:.3}, height {z:.3}) stands on no storey of the scene")]
+    NoStorey {
+        /// Which point: "start" or "goal".
+        what: &'static str,
+        /// x (m, world).
+        x: f64,
+        /// y (m, world).
+        y: f64,
+        /// z (m, world).
+        z: f64,
+    },
+    /// The episode's goals stand on different storeys.
+    #[error("the episode's goals stand on different storeys")]
+    GoalsOnSeveralStoreys,
 }
 
 /// The result of one step.
@@ -136,6 +153,11 @@ pub trait EnvView {
     fn grid(&self) -> &Arc<NavGrid>;
     /// The geodesic field towards the episode's goals.
     fn field(&self) -> &Arc<GoalField>;
+    /// Height of the agent's feet (m, world z): its floor's, or on a flight of stairs the
+    /// surface under it.
+    fn height(&self) -> f64 {
+        self.grid().floor_z
+    }
 }
 
 /// A running PointNav episode that runners step, with or without physics.
@@ -165,6 +187,10 @@ pub struct Env {
     d0: f64,
     called_stop: bool,
     done: bool,
+    /// On an episode across storeys: the way, and the storey the agent counts on now.
+    route: Option<(Arc<StoreyRoute>, usize)>,
+    /// Height of the agent's feet (m).
+    height: f64,
 }
 
 impl Env {
@@ -172,7 +198,6 @@ impl Env {
     pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
         let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
         Ok(Env {
-            grid,
             field,
             config,
             start,
@@ -184,9 +209,73 @@ impl Env {
             d0,
             called_stop: false,
             done: false,
+            route: None,
+            height: grid.floor_z,
+            grid,
         })
     }
 
+    /// Starts `episode` in `world`, on whichever storeys its start and goals stand
+    /// ([`World::storey_of`]). On one storey this is [`Env::new`] on that storey's grid; across
+    /// storeys the agent walks each storey's grid on the way and changes grid on the flights
+    /// between them (see [`StoreyRoute`]), its height following the surface under it, and d0
+    /// is the 3D geodesic of [`crate::storey_path`].
+    pub fn in_world(world: &World, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
+        let sp = episode.start_position;
+        let start = world.storey_of(sp).ok_or(InvalidEpisode::NoStorey { what: "start", x: sp.x, y: sp.y, z: sp.z })?;
+        let goal = goal_storey(world, episode)?;
+        if goal == start {
+            let grid = world.grid(start).map_err(|_| InvalidEpisode::StartNotNavigable { x: sp.x, y: sp.y })?;
+            return Env::new(grid, episode, config);
+        }
+        let goals: Vec<Point2> = episode.goals.iter().map(|g| g.position.xy()).collect();
+        let route = StoreyRoute::new(world, start, goal, &goals).ok_or(InvalidEpisode::Unreachable)?;
+        let (gg, _) = route.leg(goal).ok_or(InvalidEpisode::Unreachable)?;
+        for g in &goals {
+            if !gg.is_navigable(*g) {
+                return Err(InvalidEpisode::GoalNotNavigable { x: g.x, y: g.y });
+            }
+        }
+        let (grid, field) = route.leg(start).cloned().ok_or(InvalidEpisode::Unreachable)?;
+        let pose = Pose2::new(sp.x, sp.y, normalize_angle(episode.start_yaw));
+        if !grid.is_navigable(pose.position()) {
+            return Err(InvalidEpisode::StartNotNavigable { x: sp.x, y: sp.y });
+        }
+        let d0 = episode.goals.iter().map(|g| crate::storey_path::distance(world, sp, g.position)).fold(f64::INFINITY, f64::min);
+        if !d0.is_finite() {
+            return Err(InvalidEpisode::Unreachable);
+        }
+        Ok(Env {
+            height: grid.surface_height(pose.position()),
+            grid,
+            field,
+            config,
+            start: pose,
+            goals,
+            pose,
+            steps: 0,
+            collisions: 0,
+            path_length: 0.0,
+            d0,
+            called_stop: false,
+            done: false,
+            route: Some((Arc::new(route), start)),
+        })
+    }
+}
+
+/// The storey all of `episode`'s goals stand on.
+fn goal_storey(world: &World, episode: &Episode) -> Result<usize, InvalidEpisode> {
+    let mut storey = None;
+    for g in &episode.goals {
+        let p = g.position;
+        let k = world.storey_of(p).ok_or(InvalidEpisode::NoStorey { what: "goal", x: p.x, y: p.y, z: p.z })?;
+        if storey.is_some_and(|s| s != k) {
+            return Err(InvalidEpisode::GoalsOnSeveralStoreys);
+        }
+        storey = Some(k);
+    }
+    storey.ok_or(InvalidEpisode::NoGoal)
 }
 
 impl DiscreteEnv for Env {
@@ -203,7 +292,22 @@ impl DiscreteEnv for Env {
                 let from = self.pose.position();
                 let to = Point2::new(from.x + c * self.config.forward_step_size, from.y + s * self.config.forward_step_size);
                 let (end, hit) = try_step(&self.grid, from, to);
-                self.path_length += from.dist(end);
+                match &mut self.route {
+                    None => self.path_length += from.dist(end),
+                    Some((route, storey)) => {
+                        // Across storeys the path is measured in 3D, and on a flight the agent
+                        // may now count on the next storey.
+                        let k = route.storey_at(*storey, end);
+                        if k != *storey {
+                            if let Some((g, f)) = route.leg(k) {
+                                (self.grid, self.field, *storey) = (g.clone(), f.clone(), k);
+                            }
+                        }
+                        let z = self.grid.surface_height(end);
+                        self.path_length += (from.dist(end).powi(2) + (z - self.height).powi(2)).sqrt();
+                        self.height = z;
+                    }
+                }
                 self.pose.x = end.x;
                 self.pose.y = end.y;
                 collided = hit;
@@ -254,6 +358,10 @@ impl EnvView for Env {
     /// The geodesic field towards the episode's goals.
     fn field(&self) -> &Arc<GoalField> {
         &self.field
+    }
+    /// Height of the agent's feet (m).
+    fn height(&self) -> f64 {
+        self.height
     }
 }
 

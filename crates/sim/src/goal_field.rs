@@ -23,6 +23,8 @@ const NONE: u32 = u32::MAX;
 pub struct GoalField {
     graph: Arc<CornerGraph>,
     goals: Vec<Point2>,
+    /// What is left to go from each goal (m): zero for an episode's goals.
+    offsets: Vec<f64>,
     /// Island of each goal (`u32::MAX`: off the region).
     goal_island: Vec<u32>,
     /// Line-of-sight tolerance at each goal (m).
@@ -40,6 +42,7 @@ impl Clone for GoalField {
         GoalField {
             graph: self.graph.clone(),
             goals: self.goals.clone(),
+            offsets: self.offsets.clone(),
             goal_island: self.goal_island.clone(),
             goal_eps: self.goal_eps.clone(),
             dist: self.dist.clone(),
@@ -53,6 +56,13 @@ impl GoalField {
     /// The field towards `goals` (m, planar) on `grid`. Goals off the region count from the
     /// nearest navigable cell within two cells (for their island); farther ones are ignored.
     pub fn new(grid: &NavGrid, goals: &[Point2]) -> GoalField {
+        Self::with_offsets(grid, goals, &vec![0.0; goals.len()])
+    }
+
+    /// The field towards `goals` (m, planar) where reaching goal `k` leaves `offsets[k]` (m)
+    /// still to go: the portals of a flight of stairs, with the way on from each. With zero
+    /// offsets, [`GoalField::new`].
+    pub fn with_offsets(grid: &NavGrid, goals: &[Point2], offsets: &[f64]) -> GoalField {
         let graph = grid.corner_graph().clone();
         let n = graph.len();
         let goal_island: Vec<u32> = goals.iter().map(|&g| goal_island(grid, g)).collect();
@@ -65,7 +75,7 @@ impl GoalField {
         for k in 0..n {
             for (j, g) in goals.iter().enumerate() {
                 if goal_island[j] != NONE && goal_island[j] == graph.island(k) {
-                    heap.push(Reverse((dist2(graph.pos(k), [g.x, g.y]).to_bits(), k as u32, j as u32)));
+                    heap.push(Reverse(((offsets[j] + dist2(graph.pos(k), [g.x, g.y])).to_bits(), k as u32, j as u32)));
                 }
             }
         }
@@ -102,6 +112,7 @@ impl GoalField {
         GoalField {
             graph,
             goals: goals.to_vec(),
+            offsets: offsets.to_vec(),
             goal_island,
             goal_eps,
             dist,
@@ -121,7 +132,7 @@ impl GoalField {
         let q = q as usize;
         if q >= n {
             let g = self.goals[q - n];
-            ([g.x, g.y], 0.0)
+            ([g.x, g.y], self.offsets[q - n])
         } else {
             (self.graph.pos(q), self.dist[q])
         }
@@ -177,7 +188,7 @@ impl GoalField {
         let mut cand: Vec<(f64, u32)> = Vec::new();
         for (j, g) in self.goals.iter().enumerate() {
             if self.goal_island[j] == island {
-                let d = dist2([g.x, g.y], c);
+                let d = self.offsets[j] + dist2([g.x, g.y], c);
                 if d <= bound {
                     cand.push((d, (n + j) as u32));
                 }

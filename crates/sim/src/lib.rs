@@ -23,6 +23,7 @@ pub mod metrics;
 pub mod oracle;
 pub mod world;
 pub mod storey_path;
+pub mod storey_route;
 pub mod robot;
 pub mod physics_env;
 pub mod sensors;

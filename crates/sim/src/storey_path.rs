@@ -6,7 +6,7 @@
 //! length is the least over the portal points of the two storeys' planar geodesics (any path
 //! up the flight crosses that tread). Its length is then measured as Habitat measures a
 //! navmesh path: the 3D lengths of the straight legs between the planar path's bend points,
-//! each bend point at the height of the surface under it (a flight climbed straight is one leg
+//! each bend point at the height of the surface under it ([`NavGrid::surface_height`]) (a flight climbed straight is one leg
 //! from its foot's floor to its top's). Storeys without stairs keep planar lengths.
 
 use crate::geodesic::geodesic_distance;
@@ -233,12 +233,12 @@ fn straighten_crossings(path: Vec<Point3>, cross: &[Point2]) -> Vec<Point3> {
     out
 }
 
-/// The planar polyline on `grid` at the heights of the surfaces under it (m): the ground on a
-/// storey with stairs, the floor's height elsewhere.
+/// The planar polyline on `grid` at the heights of the surfaces under it (m), as
+/// [`NavGrid::surface_height`] gives them.
 fn lift(grid: &NavGrid, pts: &[Point2]) -> Vec<Point3> {
     let mut out: Vec<Point3> = Vec::with_capacity(pts.len());
     for p in pts {
-        let z = if grid.has_stairs() { grid.ground_at(*p).unwrap_or(grid.floor_z) } else { grid.floor_z };
+        let z = grid.surface_height(*p);
         // Consecutive duplicates (a path ending on its goal) add nothing.
         if out.last().is_some_and(|q| (q.x - p.x).abs() < 1e-12 && (q.y - p.y).abs() < 1e-12) {
             continue;

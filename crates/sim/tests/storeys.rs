@@ -1,6 +1,9 @@
 //! Buildings with storeys and stairs: floors, storey grids joined by their flights.
 
+use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
+use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::AgentParams;
+use xhab_sim::oracle::ShortestPathFollower;
 use xhab_sim::scene::stair_building::{stair_building, Partition, StairBuildingParams};
 use xhab_sim::storey_path;
 use xhab_sim::world::World;
@@ -108,4 +111,46 @@ fn storeys_no_flight_joins_are_infinitely_far_apart() {
     assert!(d.is_infinite(), "{d}");
     // Each storey alone is still walkable.
     assert!(storey_path::distance(&world, Point3::new(1.0, 0.55, 0.0), Point3::new(9.0, 0.55, 0.0)).is_finite());
+}
+
+fn episode(a: [f64; 3], yaw: f64, b: [f64; 3]) -> Episode {
+    Episode {
+        episode_id: "0".into(),
+        scene_id: "stairs".into(),
+        start_position: Point3::new(a[0], a[1], a[2]),
+        start_yaw: yaw,
+        goals: vec![Goal { position: Point3::new(b[0], b[1], b[2]), radius: 0.2 }],
+        geodesic_distance: None,
+        info: serde_json::Value::Null,
+    }
+}
+
+/// Runs the shortest-path follower to the end; returns the metrics and the heights it passed.
+fn follow(world: &World, ep: &Episode) -> (xhab_sim::metrics::EpisodeMetrics, Vec<f64>) {
+    let mut env = Env::in_world(world, ep, TaskConfig::default()).unwrap();
+    let mut oracle = ShortestPathFollower::new();
+    let mut heights = vec![env.height()];
+    while !env.is_done() {
+        let a = oracle.act(&env);
+        env.step(a);
+        heights.push(env.height());
+    }
+    (env.metrics(), heights)
+}
+
+#[test]
+fn the_oracle_climbs_the_flight_to_a_goal_upstairs_and_comes_back_down() {
+    let p = StairBuildingParams::default();
+    let world = World::new(stair_building(&p), AgentParams::default());
+    let h = p.storey_height;
+    for (a, b) in [([1.0, 2.0, 0.0], [9.0, 2.0, h]), ([9.0, 2.0, h], [1.0, 2.0, 0.0]), ([1.0, 0.55, 0.0], [9.5, 3.5, h])] {
+        let (m, z) = follow(&world, &episode(a, 0.3, b));
+        eprintln!("{a:?} -> {b:?}: success {} spl {:.4} d0 {:.3} path {:.3} steps {}", m.success, m.spl, m.start_distance, m.path_length, m.steps);
+        assert_eq!(m.success, 1.0, "{m:?}");
+        assert!(m.spl >= 0.95, "{m:?}");
+        // The agent's height follows the flight: it ends on the goal's storey and never
+        // jumps more than a riser at a step.
+        assert!((z[z.len() - 1] - b[2]).abs() < 1e-6, "ends at height {}", z[z.len() - 1]);
+        assert!(z.windows(2).all(|w| (w[1] - w[0]).abs() <= p.riser() * 2.0 + 1e-9), "{z:?}");
+    }
 }

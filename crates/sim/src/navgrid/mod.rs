@@ -368,6 +368,38 @@ impl NavGrid {
         self.ground[i].is_finite().then_some(self.ground[i] as f64)
     }
 
+    /// Height of the agent's feet at `p` (m): on a storey with stairs, the mean height of the
+    /// walking surface over the agent's footprint (the cells within its radius whose surface
+    /// is within a climb of the one under its centre), so that it rises evenly up a flight as
+    /// on Habitat's navmesh; the floor's height elsewhere.
+    pub fn surface_height(&self, p: Point2) -> f64 {
+        if !self.has_stairs() {
+            return self.floor_z;
+        }
+        let Some(i) = self.cell_of(p).filter(|&i| self.ground[i].is_finite()) else { return self.floor_z };
+        let g0 = self.ground[i] as f64;
+        let (w, h) = (self.spec.w as isize, self.spec.h as isize);
+        let reach = (self.params.radius / self.spec.res).ceil() as isize;
+        let (c, r) = ((i % self.spec.w) as isize, (i / self.spec.w) as isize);
+        let (mut sum, mut n) = (0.0, 0usize);
+        for dr in -reach..=reach {
+            for dc in -reach..=reach {
+                let (cc, rr) = (c + dc, r + dr);
+                if cc < 0 || rr < 0 || cc >= w || rr >= h {
+                    continue;
+                }
+                let j = (rr * w + cc) as usize;
+                let q = self.center(j);
+                let g = self.ground[j] as f64;
+                if (q[0] - p.x).hypot(q[1] - p.y) <= self.params.radius && g.is_finite() && (g - g0).abs() <= self.params.max_climb {
+                    sum += g;
+                    n += 1;
+                }
+            }
+        }
+        if n == 0 { g0 } else { sum / n as f64 }
+    }
+
     /// Whether this storey has a flight of stairs to another storey.
     pub fn has_stairs(&self) -> bool {
         !self.stair.is_empty()
