@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use std::sync::Arc;
-use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
 use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
 use xhab_sim::robot::{PhysicsScene, RobotProfile};
 use xhab_sim::episode::{Dataset, Episode};
@@ -158,10 +158,18 @@ impl MadeEnv {
 /// says why it cannot run.
 pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Result<(MadeEnv, Arc<xhab_sim::navgrid::NavGrid>), String> {
     let grid = world.grid_at(ep.start_position.z).map_err(|e| e.to_string())?;
-    for g in &ep.goals {
-        if (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH {
-            return Err(format!("goal at height {:.3} m is not on the start's floor", g.position.z));
+    let cross = ep.goals.iter().find(|g| (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH);
+    if let Some(g) = cross {
+        // Across storeys: the discrete simulator walks the flights between them.
+        if cfg.physics.is_some() {
+            return Err(format!("goal at height {:.3} m is on another storey: episodes across storeys run without --physics for now", g.position.z));
         }
+        if cfg.agent == AgentKind::Nav {
+            return Err("the nav agent drives with velocities: it needs --physics".into());
+        }
+        let env = Env::in_world(world, ep, cfg.task.clone()).map_err(|e| e.to_string())?;
+        let grid = env.grid().clone();
+        return Ok((MadeEnv::Plain(env), grid));
     }
     match &cfg.physics {
         Some(ph) => {
@@ -192,7 +200,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     let Some(agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));
     };
-    drive_episode(made, &grid, ep, index, cfg, agent, &AtomicBool::new(false), t0).unwrap_or_else(|| invalid("cancelled".into()))
+    drive_episode(made, ep, index, cfg, agent, &AtomicBool::new(false), t0).unwrap_or_else(|| invalid("cancelled".into()))
 }
 
 /// Runs one episode (number `index` in its dataset) with `agent`, a discrete agent of any
@@ -208,13 +216,13 @@ pub fn run_episode_with(world: &World, ep: &Episode, index: usize, cfg: &RunConf
         cfg
     };
     match make_env(world, ep, index, cfg) {
-        Ok((made, grid)) => drive_episode(made, &grid, ep, index, cfg, agent, cancel, t0),
+        Ok((made, _)) => drive_episode(made, ep, index, cfg, agent, cancel, t0),
         Err(reason) => Some(Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason })),
     }
 }
 
 /// Steps a discrete agent through an episode until it is done (or `cancel` is set: `None`).
-fn drive_episode(mut made: MadeEnv, grid: &xhab_sim::navgrid::NavGrid, ep: &Episode, index: usize, cfg: &RunConfig, mut agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool, t0: Instant) -> Option<Outcome> {
+fn drive_episode(mut made: MadeEnv, ep: &Episode, index: usize, cfg: &RunConfig, mut agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool, t0: Instant) -> Option<Outcome> {
     let invalid = |reason: String| Some(Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }));
     agent.reset();
     let env = made.as_dyn();
@@ -226,7 +234,7 @@ fn drive_episode(mut made: MadeEnv, grid: &xhab_sim::navgrid::NavGrid, ep: &Epis
             return None;
         }
         let frame = match cfg.sensors.as_deref() {
-            Some(rig) => match capture(rig, env.pose(), grid.floor_z, cfg.seed, index, step, &mut stats) {
+            Some(rig) => match capture(rig, env.pose(), env.height(), cfg.seed, index, step, &mut stats) {
                 Ok(f) => Some(f),
                 Err(reason) => return invalid(reason),
             },

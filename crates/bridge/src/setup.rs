@@ -219,6 +219,13 @@ pub fn generate(world: &World, scene: &str, floor: &str, count: usize, seed: u64
     generate_episodes(&grid, scene_id, count, seed, &GeneratorParams::default()).map_err(|source| SetupError::Generate { scene: scene.to_string(), source })
 }
 
+/// Generates `count` PointNav episodes whose start and goal stand on different storeys joined
+/// by stairs (`xhab episodes --cross-floor`), with Habitat's other rules.
+pub fn generate_cross_floor(world: &World, scene: &str, count: usize, seed: u64, scene_id: &str) -> Result<Dataset, SetupError> {
+    xhab_sim::episode::generate_cross_storey_episodes(world, scene_id, count, seed, &GeneratorParams::default())
+        .map_err(|source| SetupError::Generate { scene: scene.to_string(), source })
+}
+
 /// Reads a Habitat PointNav episodes file (`.json.gz` or `.json`).
 pub fn read_episodes(path: &Path) -> Result<Dataset, SetupError> {
     read_dataset(path).map_err(|source| SetupError::Episodes { path: path.display().to_string(), source })

@@ -154,3 +154,33 @@ fn the_oracle_climbs_the_flight_to_a_goal_upstairs_and_comes_back_down() {
         assert!(z.windows(2).all(|w| (w[1] - w[0]).abs() <= p.riser() * 2.0 + 1e-9), "{z:?}");
     }
 }
+
+#[test]
+fn the_two_storey_procedural_house_has_both_storeys_joined_by_its_flight() {
+    use xhab_sim::scene::house::{generate_house, HouseParams};
+    // One storey stays the house it always was, bit for bit.
+    assert_eq!(generate_house(3, &HouseParams::default()), generate_house(3, &HouseParams { storeys: 1, ..Default::default() }));
+    let p = HouseParams { storeys: 2, ..Default::default() };
+    for seed in 0..4 {
+        let world = World::new(generate_house(seed, &p), AgentParams::default());
+        let z: Vec<f64> = world.floors.iter().map(|f| f.z).collect();
+        assert_eq!(z.len(), 2, "seed {seed}: floors {z:?}");
+        assert!(z[0].abs() < 1e-6 && (z[1] - (p.wall_height + xhab_sim::scene::house::SLAB)).abs() < 1e-6, "seed {seed}: {z:?}");
+        assert_eq!(world.connected_storeys(), vec![(0, 1)], "seed {seed}");
+        // Straight up the flight's centre line, from the hall's south landing to its north
+        // landing upstairs: one leg.
+        use xhab_sim::scene::house::{risers, HALL, STAIR_FOOT, STAIR_WIDTH, TREAD};
+        let x = -HALL + p.wall_thickness / 2.0 + STAIR_WIDTH / 2.0;
+        let y_top = STAIR_FOOT + (risers(z[1]).0 - 1) as f64 * TREAD;
+        let (a, b) = (Point3::new(x, 0.5, 0.0), Point3::new(x, y_top + 1.5, z[1]));
+        let want = ((b.y - a.y).powi(2) + z[1].powi(2)).sqrt();
+        within(storey_path::distance(&world, a, b), want, &format!("seed {seed}: up the house's flight"));
+        within(storey_path::distance(&world, b, a), want, &format!("seed {seed}: down the house's flight"));
+        for k in 0..2 {
+            let g = world.grid(k).unwrap();
+            let total: usize = g.islands.iter().map(|i| i.cells).sum();
+            let largest = g.islands.iter().map(|i| i.cells).max().unwrap();
+            assert!(largest as f64 >= 0.95 * total as f64, "seed {seed} storey {k}: {largest} of {total} cells connected");
+        }
+    }
+}

@@ -471,6 +471,10 @@ pub struct EpisodesArgs {
     /// scene_id written into the episodes (default: the SCENE argument).
     #[arg(long)]
     pub scene_id: Option<String>,
+    /// Pairs on different storeys joined by stairs (start and goal on floors, not on the
+    /// flights); `--floor` does not apply.
+    #[arg(long, conflicts_with = "floor")]
+    pub cross_floor: bool,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
 }

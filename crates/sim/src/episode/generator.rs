@@ -52,6 +52,9 @@ pub enum GenerateError {
     /// No island is large enough for goals.
     #[error("no navigable island has a radius of at least {0} m")]
     NoIsland(f64),
+    /// No flight of stairs joins two storeys (for episodes across storeys).
+    #[error("no flight of stairs joins two storeys of the scene")]
+    NoFlight,
     /// Too many goals were tried without finding enough episodes.
     #[error("found only {found} of {wanted} episodes after {tries} goals: the scene is too small or too cramped for the limits")]
     Exhausted {
@@ -109,6 +112,85 @@ pub fn generate_episodes(
             }
             // Habitat draws the start rotation as an angle about the up axis; facing Habitat's
             // -z is our yaw pi/2.
+            let angle = rng.gen::<f64>() * std::f64::consts::TAU;
+            let id = episodes.len();
+            episodes.push(Episode {
+                episode_id: id.to_string(),
+                scene_id: scene_id.to_string(),
+                start_position: start,
+                start_yaw: xhab_types::normalize_angle(angle + std::f64::consts::FRAC_PI_2),
+                goals: vec![Goal { position: goal, radius: params.goal_radius }],
+                geodesic_distance: Some(d),
+                info: serde_json::json!({ "geodesic_distance": d }),
+            });
+            break;
+        }
+    }
+    Ok(Dataset { episodes })
+}
+
+/// Generates `count` episodes whose start and goal stand on different storeys of `world` that
+/// flights of stairs join (`xhab episodes --cross-floor`), from `seed`, with Habitat's other
+/// rules: goals on islands of at least `island_radius_limit`, the 3D geodesic of
+/// [`crate::storey_path`] within the distance limits, and the same rule on the ratio of
+/// geodesic to straight-line (3D) distance. Starts and goals stand on floors, not on flights.
+/// The same world, parameters and seed give the same episodes, bit for bit.
+pub fn generate_cross_storey_episodes(
+    world: &crate::world::World,
+    scene_id: &str,
+    count: usize,
+    seed: u64,
+    params: &GeneratorParams,
+) -> Result<Dataset, GenerateError> {
+    let joined = world.connected_storeys();
+    if joined.is_empty() {
+        return Err(GenerateError::NoFlight);
+    }
+    let mut storeys: Vec<usize> = joined.iter().flat_map(|&(a, b)| [a, b]).collect();
+    storeys.sort();
+    storeys.dedup();
+    let mut grids = Vec::new();
+    let mut goal_cells = Vec::new();
+    let mut start_cells = Vec::new();
+    for &k in &storeys {
+        let Ok(g) = world.grid(k) else { return Err(GenerateError::NoFlight) };
+        let off_flight = |v: Vec<usize>| -> Vec<usize> { v.into_iter().filter(|&i| !g.cell_is_stair(i)).collect() };
+        goal_cells.push(off_flight(g.cells_on_islands(params.island_radius_limit)));
+        start_cells.push(off_flight(g.cells_on_islands(0.0)));
+        grids.push(g);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut episodes = Vec::with_capacity(count);
+    let max_targets = 200 * count.max(1) + 1000;
+    let mut tries = 0;
+    while episodes.len() < count {
+        if tries >= max_targets {
+            return Err(GenerateError::Exhausted { found: episodes.len(), wanted: count, tries });
+        }
+        tries += 1;
+        let gk = rng.gen_range(0..storeys.len());
+        if goal_cells[gk].is_empty() {
+            continue;
+        }
+        let Some(goal) = grids[gk].sample_navigable_point(&goal_cells[gk], &mut rng) else { continue };
+        for _ in 0..params.number_retries_per_target {
+            let sk = rng.gen_range(0..storeys.len());
+            if sk == gk || start_cells[sk].is_empty() {
+                continue;
+            }
+            let Some(start) = grids[sk].sample_navigable_point(&start_cells[sk], &mut rng) else { continue };
+            let d = crate::storey_path::distance(world, start, goal);
+            if !d.is_finite() || d < params.closest_dist_limit || d > params.furthest_dist_limit {
+                continue;
+            }
+            let euclid = ((start.x - goal.x).powi(2) + (start.y - goal.y).powi(2) + (start.z - goal.z).powi(2)).sqrt().max(1e-9);
+            let ratio = d / euclid;
+            if ratio < params.geodesic_to_euclid_min_ratio {
+                let keep = 20.0 * (ratio - 0.98).powi(2);
+                if rng.gen::<f64>() > keep {
+                    continue;
+                }
+            }
             let angle = rng.gen::<f64>() * std::f64::consts::TAU;
             let id = episodes.len();
             episodes.push(Episode {

@@ -405,6 +405,11 @@ impl NavGrid {
         !self.stair.is_empty()
     }
 
+    /// Whether cell `i` lies on a flight of stairs.
+    pub fn cell_is_stair(&self, i: usize) -> bool {
+        self.stair.get(i).copied().unwrap_or(false)
+    }
+
     /// Whether `p` lies on a flight of stairs (m, planar).
     pub fn on_stairs(&self, p: Point2) -> bool {
         self.cell_of(p).is_some_and(|i| self.stair.get(i).copied().unwrap_or(false))

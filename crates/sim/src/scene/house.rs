@@ -26,6 +26,10 @@ pub struct HouseParams {
     pub min_room: f64,
     /// Place furniture (default true).
     pub furniture: bool,
+    /// Storeys (default 1). With more, each storey has its own rooms and corridor, a stair
+    /// hall west of the house joins them by straight flights, and each upper floor is a slab
+    /// [`SLAB`] thick on the walls below.
+    pub storeys: usize,
 }
 
 impl Default for HouseParams {
@@ -39,6 +43,7 @@ impl Default for HouseParams {
             corridor_width: 1.5,
             min_room: 2.5,
             furniture: true,
+            storeys: 1,
         }
     }
 }
@@ -48,6 +53,7 @@ const WALL: [f32; 4] = [0.92, 0.91, 0.88, 1.0];
 const WOOD: [f32; 4] = [0.55, 0.38, 0.22, 1.0];
 const FABRIC: [f32; 4] = [0.30, 0.42, 0.62, 1.0];
 const BEDDING: [f32; 4] = [0.85, 0.85, 0.92, 1.0];
+const STAIR: [f32; 4] = [0.50, 0.36, 0.24, 1.0];
 
 /// A room: an axis-aligned rectangle (m).
 #[derive(Debug, Clone, Copy)]
@@ -74,51 +80,124 @@ pub fn default_house(seed: u64) -> Scene {
 
 /// Generates the house for `seed`: outer walls, a corridor along x, rooms on both sides each
 /// with a door to the corridor (so every room is reachable), some doors between neighbouring
-/// rooms, and furniture that keeps doors clear. The floor's top is at z = 0.
+/// rooms, and furniture that keeps doors clear. The floor's top is at z = 0. With
+/// `storeys > 1`, the storeys stand on each other (see [`HouseParams::storeys`]).
 pub fn generate_house(seed: u64, p: &HouseParams) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let len = (p.length * rng.gen_range(0.85..1.15) * 10.0).round() / 10.0;
     let wid = (p.width * rng.gen_range(0.9..1.1) * 10.0).round() / 10.0;
-    let cw = p.corridor_width;
-    let south = ((wid - cw) * rng.gen_range(0.4..0.6) * 10.0).round() / 10.0;
-    let (yc0, yc1) = (south, south + cw);
     let mut s = Scene::default();
     let t = p.wall_thickness / 2.0;
     s.add_box("floor", f([-t, -t, -0.05]), f([len + t, wid + t, 0.0]), FLOOR);
+    let storeys = p.storeys.max(1);
+    let rise = p.wall_height + SLAB;
+    for k in 0..storeys {
+        let z0 = k as f64 * rise;
+        if k > 0 {
+            // The slab of this storey on the walls below, with the stairwell left open.
+            s.add_box(&format!("s{k}_floor"), f([-t, -t, z0 - SLAB]), f([len + t, wid + t, z0]), FLOOR);
+        }
+        layout_storey(&mut s, &mut rng, p, len, wid, k, z0, storeys > 1);
+        if storeys > 1 {
+            stair_hall(&mut s, p, wid, k, storeys, z0);
+        }
+    }
+    s
+}
+
+/// Thickness of an upper storey's floor slab (m).
+pub const SLAB: f64 = 0.2;
+/// Width of the stair hall west of the house (m).
+pub const HALL: f64 = 1.7;
+/// Width of a flight (m).
+pub const STAIR_WIDTH: f64 = 0.9;
+/// Where each flight starts along y (m).
+pub const STAIR_FOOT: f64 = 1.0;
+/// Tread depth (m).
+pub const TREAD: f64 = 0.28;
+/// Greatest rise of a step (m; Habitat's climb is 0.2).
+pub const MAX_RISER: f64 = 0.18;
+
+/// Risers of one flight, and the rise of each (m), for storeys `rise` apart.
+pub fn risers(rise: f64) -> (usize, f64) {
+    let n = (rise / MAX_RISER).ceil() as usize;
+    (n, rise / n as f64)
+}
+
+/// One storey's corridor, rooms, walls and furniture at height `z0` (m); with `hall`, a door
+/// in the west wall opens from the corridor into the stair hall.
+#[allow(clippy::too_many_arguments)]
+fn layout_storey(s: &mut Scene, rng: &mut ChaCha8Rng, p: &HouseParams, len: f64, wid: f64, k: usize, z0: f64, hall: bool) {
+    let cw = p.corridor_width;
+    let south = ((wid - cw) * rng.gen_range(0.4..0.6) * 10.0).round() / 10.0;
+    let (yc0, yc1) = (south, south + cw);
+    let west_doors = if hall { vec![(yc0 + yc1) / 2.0] } else { vec![] };
     let mut walls = vec![
         Wall { horizontal: true, at: 0.0, from: 0.0, to: len, doors: vec![] },
         Wall { horizontal: true, at: wid, from: 0.0, to: len, doors: vec![] },
-        Wall { horizontal: false, at: 0.0, from: 0.0, to: wid, doors: vec![] },
+        Wall { horizontal: false, at: 0.0, from: 0.0, to: wid, doors: west_doors },
         Wall { horizontal: false, at: len, from: 0.0, to: wid, doors: vec![] },
     ];
     let mut rooms = Vec::new();
     let mut corridor_doors = (vec![], vec![]);
     for (side, (y0, y1)) in [(0, (0.0, yc0)), (1, (yc1, wid))] {
-        let cuts = split(&mut rng, 0.0, len, p.min_room);
-        for k in 0..cuts.len() - 1 {
-            let r = Rect { x0: cuts[k], y0, x1: cuts[k + 1], y1 };
-            let door = door_pos(&mut rng, r.x0, r.x1, p.door_width);
+        let cuts = split(rng, 0.0, len, p.min_room);
+        for j in 0..cuts.len() - 1 {
+            let r = Rect { x0: cuts[j], y0, x1: cuts[j + 1], y1 };
+            let door = door_pos(rng, r.x0, r.x1, p.door_width);
             if side == 0 { corridor_doors.0.push(door) } else { corridor_doors.1.push(door) }
-            if k > 0 {
+            if j > 0 {
                 // A wall between neighbours, with a door now and then.
-                let doors = if rng.gen_bool(0.35) { vec![door_pos(&mut rng, y0, y1, p.door_width)] } else { vec![] };
-                walls.push(Wall { horizontal: false, at: cuts[k], from: y0, to: y1, doors });
+                let doors = if rng.gen_bool(0.35) { vec![door_pos(rng, y0, y1, p.door_width)] } else { vec![] };
+                walls.push(Wall { horizontal: false, at: cuts[j], from: y0, to: y1, doors });
             }
             rooms.push(r);
         }
     }
     walls.push(Wall { horizontal: true, at: yc0, from: 0.0, to: len, doors: corridor_doors.0 });
     walls.push(Wall { horizontal: true, at: yc1, from: 0.0, to: len, doors: corridor_doors.1 });
+    let prefix = if k == 0 { String::new() } else { format!("s{k}_") };
     let mut door_zones = Vec::new();
     for (i, w) in walls.iter().enumerate() {
-        add_wall(&mut s, i, w, p, &mut door_zones);
+        add_wall(s, &format!("{prefix}wall_{i}"), w, p, z0, &mut door_zones);
     }
     if p.furniture {
         for (i, r) in rooms.iter().enumerate() {
-            furnish(&mut s, &mut rng, i, r, &door_zones, p.wall_thickness);
+            furnish(s, rng, &format!("{prefix}room{i}"), r, &door_zones, p.wall_thickness, z0);
         }
     }
-    s
+}
+
+/// Storey `k`'s part of the stair hall at `x` in `[-HALL, 0]`: its outer walls, the flight up
+/// to the next storey against the west wall, and above the ground storey its floor around the
+/// stairwell with a balustrade.
+fn stair_hall(s: &mut Scene, p: &HouseParams, wid: f64, k: usize, storeys: usize, z0: f64) {
+    let t = p.wall_thickness / 2.0;
+    let top = z0 + p.wall_height;
+    s.add_box(&format!("s{k}_hall_west"), f([-HALL - t, -t, z0]), f([-HALL + t, wid + t, top]), WALL);
+    s.add_box(&format!("s{k}_hall_south"), f([-HALL, -t, z0]), f([-t, t, top]), WALL);
+    s.add_box(&format!("s{k}_hall_north"), f([-HALL, wid - t, z0]), f([-t, wid + t, top]), WALL);
+    let (x0, x1) = (-HALL + t, -HALL + t + STAIR_WIDTH);
+    let rise = p.wall_height + SLAB;
+    let (n, h) = risers(rise);
+    let y_top = STAIR_FOOT + (n - 1) as f64 * TREAD;
+    if k == 0 {
+        s.add_box("hall_floor", f([-HALL - t, -t, -0.05]), f([-t, wid + t, 0.0]), FLOOR);
+    } else {
+        // The floor around the stairwell that the flight from below comes up through.
+        let zs = z0 - SLAB;
+        s.add_box(&format!("s{k}_hall_floor_south"), f([-HALL + t, t, zs]), f([-t, STAIR_FOOT, z0]), FLOOR);
+        s.add_box(&format!("s{k}_hall_floor_north"), f([-HALL + t, y_top, zs]), f([-t, wid - t, z0]), FLOOR);
+        s.add_box(&format!("s{k}_hall_floor_east"), f([x1, STAIR_FOOT, zs]), f([-t, y_top, z0]), FLOOR);
+        s.add_box(&format!("s{k}_balustrade_east"), f([x1, STAIR_FOOT - 0.05, z0]), f([x1 + 0.05, y_top, z0 + 1.0]), WALL);
+        s.add_box(&format!("s{k}_balustrade_south"), f([x0, STAIR_FOOT - 0.05, z0]), f([x1, STAIR_FOOT, z0 + 1.0]), WALL);
+    }
+    if k + 1 < storeys {
+        for j in 1..n {
+            let ya = STAIR_FOOT + (j - 1) as f64 * TREAD;
+            s.add_box(&format!("s{k}_step_{j}"), f([x0, ya, z0]), f([x1, ya + TREAD, z0 + j as f64 * h]), STAIR);
+        }
+    }
 }
 
 fn f(v: [f64; 3]) -> [f32; 3] {
@@ -144,7 +223,7 @@ fn door_pos(rng: &mut ChaCha8Rng, a: f64, b: f64, dw: f64) -> f64 {
     if hi <= lo { (a + b) / 2.0 } else { ((rng.gen_range(lo..hi)) * 20.0).round() / 20.0 }
 }
 
-fn add_wall(s: &mut Scene, i: usize, w: &Wall, p: &HouseParams, zones: &mut Vec<Rect>) {
+fn add_wall(s: &mut Scene, base: &str, w: &Wall, p: &HouseParams, z0: f64, zones: &mut Vec<Rect>) {
     let t = p.wall_thickness / 2.0;
     let mut doors = w.doors.clone();
     doors.sort_by(|a, b| a.total_cmp(b));
@@ -166,11 +245,11 @@ fn add_wall(s: &mut Scene, i: usize, w: &Wall, p: &HouseParams, zones: &mut Vec<
         if b - a < 1e-6 {
             continue;
         }
-        let name = format!("wall_{i}_{k}");
+        let name = format!("{base}_{k}");
         if w.horizontal {
-            s.add_box(&name, f([a, w.at - t, 0.0]), f([b, w.at + t, p.wall_height]), WALL);
+            s.add_box(&name, f([a, w.at - t, z0]), f([b, w.at + t, z0 + p.wall_height]), WALL);
         } else {
-            s.add_box(&name, f([w.at - t, a, 0.0]), f([w.at + t, b, p.wall_height]), WALL);
+            s.add_box(&name, f([w.at - t, a, z0]), f([w.at + t, b, z0 + p.wall_height]), WALL);
         }
     }
 }
@@ -180,7 +259,7 @@ fn overlaps(a: &Rect, b: &Rect, gap: f64) -> bool {
 }
 
 /// Places up to three pieces of furniture in a room, clear of door zones and of each other.
-fn furnish(s: &mut Scene, rng: &mut ChaCha8Rng, room: usize, r: &Rect, zones: &[Rect], wall_t: f64) {
+fn furnish(s: &mut Scene, rng: &mut ChaCha8Rng, room: &str, r: &Rect, zones: &[Rect], wall_t: f64, z0: f64) {
     let inset = wall_t / 2.0 + 0.05;
     let mut placed: Vec<Rect> = Vec::new();
     let count = rng.gen_range(1..=3);
@@ -205,16 +284,18 @@ fn furnish(s: &mut Scene, rng: &mut ChaCha8Rng, room: usize, r: &Rect, zones: &[
             if zones.iter().any(|z| overlaps(z, &b, 0.0)) || placed.iter().any(|o| overlaps(o, &b, 0.6)) {
                 continue;
             }
-            let name = format!("room{room}_item{item}");
-            add_furniture(s, kind, &name, &b);
+            let name = format!("{room}_item{item}");
+            add_furniture(s, kind, &name, &b, z0);
             placed.push(b);
             break;
         }
     }
 }
 
-fn add_furniture(s: &mut Scene, kind: u32, name: &str, b: &Rect) {
+fn add_furniture(s: &mut Scene, kind: u32, name: &str, b: &Rect, z0: f64) {
+    let f = |v: [f64; 3]| f([v[0], v[1], v[2] + z0]);
     let legs = |s: &mut Scene, name: &str, b: &Rect, h: f64, c: [f32; 4]| {
+        let f = |v: [f64; 3]| super::house::f([v[0], v[1], v[2] + z0]);
         let l = 0.05;
         for (i, (x, y)) in [(b.x0, b.y0), (b.x1 - l, b.y0), (b.x0, b.y1 - l), (b.x1 - l, b.y1 - l)].into_iter().enumerate() {
             s.add_box(&format!("{name}_leg{i}"), f([x, y, 0.0]), f([x + l, y + l, h]), c);

@@ -9,7 +9,11 @@ use xhab_sim::episode::write_dataset;
 pub fn run(a: &EpisodesArgs) -> Result<ExitCode> {
     let world = load_world(&a.scene, &a.scene_opts)?;
     let scene_id = a.scene_id.clone().unwrap_or_else(|| a.scene.clone());
-    let ds = xhab_bridge::setup::generate(&world, &a.scene, &a.floor, a.count, a.seed, &scene_id)?;
+    let ds = if a.cross_floor {
+        xhab_bridge::setup::generate_cross_floor(&world, &a.scene, a.count, a.seed, &scene_id)?
+    } else {
+        xhab_bridge::setup::generate(&world, &a.scene, &a.floor, a.count, a.seed, &scene_id)?
+    };
     super::ensure_parent(&a.out)?;
     write_dataset(&ds, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
     let mean = ds.episodes.iter().filter_map(|e| e.geodesic_distance).sum::<f64>() / ds.episodes.len().max(1) as f64;
