@@ -30,6 +30,9 @@ pub enum SetupError {
     /// `procedural:SEED` with a seed that is not a whole number.
     #[error("bad scene '{0}': the seed after 'procedural:' must be a whole number")]
     ProceduralSeed(String),
+    /// `--storeys` out of range.
+    #[error("--storeys {0}: the procedural house has 1 to 16 storeys")]
+    BadStoreys(usize),
     /// The scene file could not be loaded.
     #[error("loading scene {arg}")]
     Scene {
@@ -146,13 +149,19 @@ pub struct SceneOptions {
     pub agent_height: f64,
     /// Cell size of the navigation grid (m, default 0.05).
     pub cell_size: f64,
+    /// Storeys of the procedural house (default 1; more are joined by a stair hall).
+    pub storeys: usize,
 }
 
 impl Default for SceneOptions {
     fn default() -> Self {
-        Self { up_axis: UpAxis::Y, keep_ceilings: false, agent_radius: None, agent_height: 1.5, cell_size: 0.05 }
+        Self { up_axis: UpAxis::Y, keep_ceilings: false, agent_radius: None, agent_height: 1.5, cell_size: 0.05, storeys: 1 }
     }
 }
+
+/// The built-in two-storey test building with one straight flight, whose geodesics are known
+/// in closed form (`scene::stair_building`).
+pub const STAIR_BUILDING: &str = "stair_building";
 
 /// The seed of a `procedural[:SEED]` argument, or `None` for a file.
 ///
@@ -174,10 +183,17 @@ pub fn procedural_seed(arg: &str) -> Result<Option<u64>, SetupError> {
     Ok(None)
 }
 
-/// Loads the scene named by `arg`: a `.glb`/`.gltf`/`.obj`/`.ply` file or `procedural[:SEED]`.
+/// Loads the scene named by `arg`: a `.glb`/`.gltf`/`.obj`/`.ply` file, `procedural[:SEED]`
+/// (with `opts.storeys` storeys) or [`STAIR_BUILDING`].
 pub fn load_scene(arg: &str, opts: &SceneOptions) -> Result<Scene, SetupError> {
+    if opts.storeys == 0 || opts.storeys > 16 {
+        return Err(SetupError::BadStoreys(opts.storeys));
+    }
     if let Some(seed) = procedural_seed(arg)? {
-        return Ok(scene::house::generate_house(seed, &scene::house::HouseParams::default()));
+        return Ok(scene::house::generate_house(seed, &scene::house::HouseParams { storeys: opts.storeys, ..Default::default() }));
+    }
+    if arg == STAIR_BUILDING {
+        return Ok(scene::stair_building::stair_building(&Default::default()));
     }
     let load = LoadOptions { up_axis: opts.up_axis, drop_ceilings: !opts.keep_ceilings };
     scene::load(Path::new(arg), &load).map_err(|source| SetupError::Scene { arg: arg.to_string(), source })

@@ -85,6 +85,7 @@ fn opt<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(o: &Bound<'py, PyDict>,
 const OPTION_KEYS: &[&str] = &[
     "physics", "robot", "control_period", "steps_per_sec", "sensors", "resolution", "hfov", "renderer", "camera_height", "depth_noise", "edge_dropout",
     "success_distance", "max_steps", "forward_step_size", "turn_angle", "agent_radius", "agent_height", "cell_size", "up_axis", "keep_ceilings",
+    "storeys",
 ];
 
 /// The environment's options from Python keywords (unknown keys are a `TypeError`).
@@ -107,6 +108,7 @@ fn env_options(scene: &str, o: &Bound<'_, PyDict>) -> PyResult<EnvOptions> {
         agent_radius: opt(o, "agent_radius")?,
         agent_height: opt(o, "agent_height")?.unwrap_or(d.agent_height),
         cell_size: opt(o, "cell_size")?.unwrap_or(d.cell_size),
+        storeys: opt(o, "storeys")?.unwrap_or(d.storeys),
     };
     if opt(o, "physics")?.unwrap_or(false) {
         let p = PhysicsOptions::default();

@@ -63,7 +63,8 @@ impl StoreyRoute {
 
     /// The storey an agent at `p` (m, planar) counts on after a move on storey `current`: a
     /// neighbouring storey on the way when `p` is on a flight both storeys share, at the same
-    /// height, and the distance still to go is shorter there; else `current`.
+    /// height, and the distance still to go is no longer there (the storey nearer the goals'
+    /// takes over as soon as the agent steps on the shared part of the flight); else `current`.
     pub fn storey_at(&self, current: usize, p: Point2) -> usize {
         let Some((gc, fc)) = self.leg(current) else { return current };
         if !gc.on_stairs(p) {
@@ -76,11 +77,17 @@ impl StoreyRoute {
                 (Some(a), Some(b)) => (a - b).abs() < 1e-4,
                 _ => false,
             };
-            if !same || !gn.on_stairs(p) || !gn.is_navigable(p) {
+            // Well inside the other storey's region (a cell clear of its edge): where a
+            // storey's part of a flight ends, its grid has an edge the agent must not start at.
+            let inside = gn.clearance_at(p) >= gn.params.radius + gn.resolution();
+            if !same || !gn.on_stairs(p) || !inside {
                 continue;
             }
+            // Towards the goals' storey a tie is enough (on a shared flight the next storey's
+            // way is never longer), away from it only a clearly shorter way.
+            let towards = n.abs_diff(self.goal_storey) < current.abs_diff(self.goal_storey);
             let d = fn_.distance(gn, p);
-            if d < best.0 - 1e-9 {
+            if (towards && d <= best.0 + 1e-9) || d < best.0 - 1e-6 {
                 best = (d, n);
             }
         }

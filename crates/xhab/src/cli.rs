@@ -374,6 +374,9 @@ pub struct SceneOpts {
     /// Cell size of the navigation grid (m).
     #[arg(long, default_value_t = 0.05, help_heading = "Agent")]
     pub cell_size: f64,
+    /// Storeys of the procedural house (SCENE `procedural[:SEED]`), joined by a stair hall.
+    #[arg(long, default_value_t = 1, help_heading = "Scene")]
+    pub storeys: usize,
 }
 
 /// Up axis values.
@@ -800,16 +803,24 @@ pub struct PerfArgs {
 /// `xhab scene ...`.
 #[derive(Debug, Subcommand)]
 pub enum SceneCommand {
-    /// Write the procedural house as GLB.
+    /// Write the procedural house (or the stair test building) as GLB.
     Generate {
         /// Seed.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Storeys of the house, joined by a stair hall.
+        #[arg(long, default_value_t = 1)]
+        storeys: usize,
+        /// Write the two-storey test building with one straight flight instead (the scene
+        /// `stair_building`, whose geodesics are known in closed form).
+        #[arg(long, conflicts_with_all = ["seed", "storeys"])]
+        stair_building: bool,
         /// Output .glb file.
         #[arg(long)]
         out: PathBuf,
     },
-    /// Print facts about a scene: triangles, bounds, floors, navigable area, islands.
+    /// Print facts about a scene: triangles, bounds, storeys (height, areas, islands, which
+    /// storeys a flight of stairs joins).
     Info {
         /// The scene.
         scene: String,

@@ -18,6 +18,7 @@ pub fn scene_options(opts: &SceneOpts) -> SceneOptions {
         agent_radius: opts.agent_radius,
         agent_height: opts.agent_height,
         cell_size: opts.cell_size,
+        storeys: opts.storeys,
     }
 }
 

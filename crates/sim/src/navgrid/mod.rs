@@ -209,7 +209,7 @@ impl NavGrid {
         }
         let cap = params.radius + 4.0 * res;
         let stairs = stairs::find(scene, params, &spec, floor_z, bounds, &ground);
-        let (mut clear, mut nearest, no_floor) = if let Some(st) = &stairs {
+        let (mut clear, mut nearest, no_floor, drops) = if let Some(st) = &stairs {
             // Each cell's body band stands on its own ground (the floor's band where none).
             ground = st.ground.clone();
             let band = |i: usize| {
@@ -256,8 +256,8 @@ impl NavGrid {
                 let (blo, bhi) = band(i);
                 seg_band[k][1] as f64 > blo && (seg_band[k][0] as f64) < bhi
             });
-            // A drop of more than a climb to a neighbour is an edge, as the floor's is.
-            let mut edge_mask: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+            // The foot of a drop of more than a climb: cells lower than a neighbour by that much.
+            let mut drops = Vec::new();
             for i in 0..n {
                 if ground[i].is_nan() {
                     continue;
@@ -265,16 +265,16 @@ impl NavGrid {
                 let (cc, rr) = (i % w, i / w);
                 let higher = |j: usize| ground[j].is_finite() && (ground[j] - ground[i]) as f64 > params.max_climb;
                 if (cc > 0 && higher(i - 1)) || (cc + 1 < w && higher(i + 1)) || (rr > 0 && higher(i - w)) || (rr + 1 < h && higher(i + w)) {
-                    edge_mask[i] = true;
+                    drops.push(i);
                 }
             }
-            (c, near, edge_mask)
+            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), drops)
         } else {
             fill_enclosed(&mut occupied, &ground, &roof, &spec);
             clearance::dedup_segments(&mut segs);
             let (c, near) = clearance::segment_distance(&spec, &segs, cap);
             // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
-            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>())
+            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), Vec::new())
         };
         let edge = clearance::edt(&no_floor, w, h);
         for i in 0..n {
@@ -286,6 +286,29 @@ impl NavGrid {
             if e < clear[i] {
                 clear[i] = e;
                 nearest[i] = u32::MAX;
+            }
+        }
+        // A drop is an edge for the cells above it (below it, its riser is geometry already):
+        // their distance to the lower cell's near side.
+        let reach = (cap / res).ceil() as isize;
+        for &m in &drops {
+            let (mc, mr) = ((m % w) as isize, (m / w) as isize);
+            for dr in -reach..=reach {
+                for dc in -reach..=reach {
+                    let (c, r) = (mc + dc, mr + dr);
+                    if c < 0 || r < 0 || c >= w as isize || r >= h as isize {
+                        continue;
+                    }
+                    let i = (r * w as isize + c) as usize;
+                    if !(ground[i].is_finite() && (ground[i] - ground[m]) as f64 > params.max_climb) {
+                        continue;
+                    }
+                    let e = ((((dc * dc + dr * dr) as f64).sqrt() - 0.5) * res).max(0.0) as f32;
+                    if e < clear[i] {
+                        clear[i] = e;
+                        nearest[i] = u32::MAX;
+                    }
+                }
             }
         }
         let mut grid = NavGrid {
