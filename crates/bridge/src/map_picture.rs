@@ -122,6 +122,22 @@ impl<'a> MapPicture<'a> {
     }
 }
 
+/// Writes the pictures of `maps` (a building's storeys, lowest first) side by side, left to
+/// right, 16 pixels apart, as one PNG.
+pub fn save_side_by_side(maps: &[OccupancyGrid], path: &Path) -> Result<(), PictureError> {
+    const GAP: u32 = 16;
+    let pics: Vec<MapPicture> = maps.iter().map(MapPicture::new).collect();
+    let w = pics.iter().map(|p| p.img.width()).sum::<u32>() + GAP * pics.len().saturating_sub(1) as u32;
+    let h = pics.iter().map(|p| p.img.height()).max().unwrap_or(1);
+    let mut img = RgbImage::from_pixel(w.max(1), h.max(1), Rgb([255, 255, 255]));
+    let mut x = 0;
+    for p in &pics {
+        image::imageops::replace(&mut img, &p.img, x as i64, 0);
+        x += p.img.width() + GAP;
+    }
+    img.save(path).map_err(|source| PictureError { path: path.to_path_buf(), source })
+}
+
 /// Why the trajectory pictures could not be drawn.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]

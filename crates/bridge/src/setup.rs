@@ -214,11 +214,16 @@ pub fn load_world(arg: &str, opts: &SceneOptions) -> Result<World, SetupError> {
     Ok(world)
 }
 
-/// The floor index for a floor argument: `auto` (the lowest) or a height in metres
-/// (Habitat's y, our z).
+/// The floor index for a floor argument: `auto` (the lowest), a storey number `N` (a whole
+/// number below the number of storeys, lowest 0) or a height in metres (Habitat's y, our z).
 pub fn floor_index(world: &World, floor: &str) -> Result<usize, SetupError> {
     if floor == "auto" {
         return world.default_floor().ok_or(SetupError::NoFloor);
+    }
+    if let Ok(n) = floor.parse::<usize>() {
+        if n < world.floors.len() {
+            return Ok(n);
+        }
     }
     let z: f64 = floor.parse().map_err(|_| SetupError::BadFloor(floor.to_string()))?;
     world.floor_at(z).ok_or_else(|| {
@@ -309,6 +314,38 @@ pub fn write_map(map: &OccupancyGrid, out: &Path) -> Result<(std::path::PathBuf,
     save_map(map, &yaml).map_err(|source| WriteMapError::Map { path: yaml.clone(), source })?;
     crate::map_picture::MapPicture::new(map).save(&png)?;
     Ok((yaml, png))
+}
+
+/// Writes every storey's map as `OUT_floorN` (map_server YAML + PGM, and a picture) and a
+/// picture of all storeys side by side as `OUT.png`; returns the YAML files, lowest storey
+/// first. What `xhab map --floor all` writes.
+pub fn write_storey_maps(world: &World, out: &Path, laser_height: Option<f64>) -> Result<Vec<std::path::PathBuf>, WriteStoreyMapsError> {
+    let mut maps = Vec::new();
+    let mut yamls = Vec::new();
+    for k in 0..world.floors.len() {
+        let grid = world.grid(k).map_err(|e| WriteStoreyMapsError::Setup(e.into()))?;
+        let map = floor_map(world, &grid, laser_height).map_err(WriteStoreyMapsError::Setup)?;
+        let mut name = out.as_os_str().to_owned();
+        name.push(format!("_floor{k}"));
+        let (yaml, _) = write_map(&map, Path::new(&name))?;
+        yamls.push(yaml);
+        maps.push(map);
+    }
+    let mut png = out.as_os_str().to_owned();
+    png.push(".png");
+    crate::map_picture::save_side_by_side(&maps, Path::new(&png)).map_err(WriteMapError::from)?;
+    Ok(yamls)
+}
+
+/// Why `xhab map --floor all` could not write its maps.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteStoreyMapsError {
+    /// A storey's map could not be made.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// A file could not be written.
+    #[error(transparent)]
+    Write(#[from] WriteMapError),
 }
 
 /// A geodesic distance query between two points and what decided it.

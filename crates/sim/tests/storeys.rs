@@ -184,3 +184,42 @@ fn the_two_storey_procedural_house_has_both_storeys_joined_by_its_flight() {
         }
     }
 }
+
+/// Share of the occupied cells of a slice through storey `k` at 1 m above its floor (off its
+/// flights, which a slice cuts across but the storey walks on) that lie within 0.10 m of an
+/// occupied cell of the storey's map.
+fn slice_agreement(world: &World, k: usize) -> f64 {
+    let g = world.grid(k).unwrap();
+    let reference = g.slice_map(&world.scene, 1.0, 0.05);
+    let map = g.occupancy_grid();
+    let (w, h) = (map.width as isize, map.height as isize);
+    let occupied = |c: isize, r: isize| c >= 0 && r >= 0 && c < w && r < h && map.data[(r * w + c) as usize] == xhab_types::GRID_OCCUPIED;
+    let (mut near, mut total) = (0usize, 0usize);
+    for r in 0..h {
+        for c in 0..w {
+            let i = (r * w + c) as usize;
+            if reference.data[i] != xhab_types::GRID_OCCUPIED || g.cell_is_stair(i) {
+                continue;
+            }
+            total += 1;
+            if (-2..=2).any(|dr: isize| (-2..=2).any(|dc: isize| dc * dc + dr * dr <= 4 && occupied(c + dc, r + dr))) {
+                near += 1;
+            }
+        }
+    }
+    near as f64 / total.max(1) as f64
+}
+
+#[test]
+fn each_storeys_map_holds_the_walls_a_slice_through_that_storey_cuts() {
+    use xhab_sim::scene::house::{generate_house, HouseParams};
+    let house = World::new(generate_house(0, &HouseParams { storeys: 2, ..Default::default() }), AgentParams::default());
+    let stairs = World::new(stair_building(&StairBuildingParams::default()), AgentParams::default());
+    for (name, world) in [("house", &house), ("stair building", &stairs)] {
+        for k in 0..2 {
+            let a = slice_agreement(world, k);
+            eprintln!("{name}, storey {k}: {:.1}% of the slice's occupied cells within 0.10 m of the map's", 100.0 * a);
+            assert!(a >= 0.95, "{name}, storey {k}: {a}");
+        }
+    }
+}

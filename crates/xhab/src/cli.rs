@@ -416,7 +416,9 @@ pub struct MapArgs {
     /// Map resolution (m per cell).
     #[arg(long, default_value_t = 0.05)]
     pub resolution: f64,
-    /// Floor: `auto` (the lowest) or a height in metres (Habitat's y, i.e. up).
+    /// Floor: `auto` (the lowest), a storey number N (0 the lowest), a height in metres
+    /// (Habitat's y, i.e. up), or `all`: one map per storey as OUT_floorN.{yaml,pgm,png} and
+    /// OUT.png with all storeys side by side.
     #[arg(long, default_value = "auto")]
     pub floor: String,
     /// Map what a planar laser at this height above the floor sees (m; e.g. 0.2): geometry
@@ -468,7 +470,8 @@ pub struct EpisodesArgs {
     /// Output file (.json.gz or .json).
     #[arg(long)]
     pub out: PathBuf,
-    /// Floor: `auto` (the lowest) or a height in metres (Habitat's y).
+    /// Floor: `auto` (the lowest), a storey number N (0 the lowest) or a height in metres
+    /// (Habitat's y).
     #[arg(long, default_value = "auto")]
     pub floor: String,
     /// scene_id written into the episodes (default: the SCENE argument).

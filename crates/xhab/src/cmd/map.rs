@@ -18,6 +18,14 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
         return explore(a, &opts, t0);
     }
     let world = load_world(&a.scene, &opts)?;
+    if a.floor == "all" {
+        let yamls = xhab_bridge::setup::write_storey_maps(&world, &a.out, a.laser_height).with_context(|| format!("writing the storeys' maps of {}", a.scene))?;
+        for (k, y) in yamls.iter().enumerate() {
+            eprintln!("xhab: wrote {} (storey {k}, floor at {:.3} m)", y.display(), world.floors[k].z);
+        }
+        eprintln!("xhab: wrote {}.png (all {} storeys side by side) in {:.2} s", a.out.display(), yamls.len(), t0.elapsed().as_secs_f64());
+        return Ok(ExitCode::SUCCESS);
+    }
     let floor = floor_index(&world, &a.floor)?;
     let grid = world.grid(floor).with_context(|| format!("building the map of {}", a.scene))?;
     let map = xhab_bridge::setup::floor_map(&world, &grid, a.laser_height)?;
