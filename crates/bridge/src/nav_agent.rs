@@ -343,6 +343,7 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
         trajectory: traj,
         sim_s: Some(env.sim_s()),
         stuck: Some(env.stuck()),
+        stuck_cause: env.stuck_cause().map(str::to_string),
         abort_reason: aborted.then(|| brain.abort_reason().map_or("unknown", AbortReason::as_str).to_string()),
         final_localization: brain.last_fix(),
         localization_error: brain.localization_error(),

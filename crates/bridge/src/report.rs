@@ -168,6 +168,10 @@ pub struct EpisodeReport {
     /// Whether the robot got stuck, physics runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stuck: Option<bool>,
+    /// Why it got stuck, when a step higher than its profile's `step_height` held it ("a step
+    /// 0.17 m high ahead, above the robot's step_height 0 m (turtlebot3_burger)").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stuck_cause: Option<String>,
     /// Whether the agent gave up (the nav agent's navigator aborted).
     pub aborted: bool,
     /// Why it gave up: `goal_unreachable_for_costmap`, `start_blocked`, `controller_failed`,
@@ -238,6 +242,7 @@ impl From<&EpisodeRun> for EpisodeReport {
             sim_s: r.sim_s,
             real_time_factor: r.sim_s.map(|s| if r.wall_s > 0.0 { s / r.wall_s } else { 0.0 }),
             stuck: r.stuck,
+            stuck_cause: r.stuck_cause.clone(),
             aborted: r.abort_reason.is_some(),
             abort_reason: r.abort_reason.clone(),
             failure: crate::runner::failure_cause(r).map(str::to_string),

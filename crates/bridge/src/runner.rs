@@ -94,6 +94,9 @@ pub struct EpisodeRun {
     pub sim_s: Option<f64>,
     /// Whether the robot got stuck (no progress over the stuck window), physics runs only.
     pub stuck: Option<bool>,
+    /// Why it got stuck, when a step higher than its `step_height` held it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stuck_cause: Option<String>,
     /// Why the navigator gave up, when it did (nav runs): `goal_unreachable_for_costmap`,
     /// `start_blocked`, `controller_failed`, `no_progress`, or `unknown` (over ROS).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -161,15 +164,22 @@ pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfi
     let cross = ep.goals.iter().find(|g| (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH);
     if let Some(g) = cross {
         // Across storeys: the discrete simulator walks the flights between them.
-        if cfg.physics.is_some() {
-            return Err(format!("goal at height {:.3} m is on another storey: episodes across storeys run without --physics for now", g.position.z));
-        }
         if cfg.agent == AgentKind::Nav {
-            return Err("the nav agent drives with velocities: it needs --physics".into());
+            return Err(format!("goal at height {:.3} m is on another storey: the nav agent plans on one storey's map", g.position.z));
         }
-        let env = Env::in_world(world, ep, cfg.task.clone()).map_err(|e| e.to_string())?;
-        let grid = env.grid().clone();
-        return Ok((MadeEnv::Plain(env), grid));
+        return match &cfg.physics {
+            Some(ph) => {
+                let seed = cfg.seed.wrapping_add(index as u64);
+                let e = PhysicsEnv::in_world(world, &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed).map_err(|e| e.to_string())?;
+                let grid = e.grid().clone();
+                Ok((MadeEnv::Physics(e), grid))
+            }
+            None => {
+                let env = Env::in_world(world, ep, cfg.task.clone()).map_err(|e| e.to_string())?;
+                let grid = env.grid().clone();
+                Ok((MadeEnv::Plain(env), grid))
+            }
+        };
     }
     match &cfg.physics {
         Some(ph) => {
@@ -251,9 +261,9 @@ fn drive_episode(mut made: MadeEnv, ep: &Episode, index: usize, cfg: &RunConfig,
     if cancel.load(Ordering::Relaxed) {
         return None;
     }
-    let (sim_s, stuck) = match &made {
-        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
-        MadeEnv::Plain(_) => (None, None),
+    let (sim_s, stuck, stuck_cause) = match &made {
+        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
+        MadeEnv::Plain(_) => (None, None, None),
     };
     let env = made.as_dyn();
     Some(Outcome::Ran(EpisodeRun {
@@ -263,6 +273,7 @@ fn drive_episode(mut made: MadeEnv, ep: &Episode, index: usize, cfg: &RunConfig,
         trajectory: traj,
         sim_s,
         stuck,
+        stuck_cause,
         abort_reason: None,
         final_localization: None,
         localization_error: None,

@@ -264,6 +264,18 @@ impl Env {
     }
 }
 
+impl Env {
+    /// On an episode across storeys, its way and the storey the agent counts on now.
+    pub fn route(&self) -> Option<(Arc<StoreyRoute>, usize)> {
+        self.route.clone()
+    }
+
+    /// The geodesic distance from the start to the nearest goal at reset, d0 (m).
+    pub fn start_distance(&self) -> f64 {
+        self.d0
+    }
+}
+
 /// The storey all of `episode`'s goals stand on.
 fn goal_storey(world: &World, episode: &Episode) -> Result<usize, InvalidEpisode> {
     let mut storey = None;

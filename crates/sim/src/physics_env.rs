@@ -8,6 +8,8 @@ use crate::episode::Episode;
 use crate::goal_field::GoalField;
 use crate::metrics::EpisodeMetrics;
 use crate::navgrid::NavGrid;
+use crate::storey_route::StoreyRoute;
+use crate::world::World;
 use crate::robot::{OdometryNoise, PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, RobotProfile, WheelOdometry};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
@@ -66,6 +68,10 @@ pub struct PhysicsEnv {
     done: bool,
     recent_forward: VecDeque<f64>,
     stuck: bool,
+    /// Why the robot got stuck, when a step it cannot climb holds it.
+    stuck_cause: Option<String>,
+    /// On an episode across storeys: the way, and the storey the robot counts on now.
+    route: Option<(Arc<StoreyRoute>, usize)>,
 }
 
 impl PhysicsEnv {
@@ -102,7 +108,83 @@ impl PhysicsEnv {
             done: false,
             recent_forward: VecDeque::new(),
             stuck: false,
+            stuck_cause: None,
+            route: None,
         })
+    }
+
+    /// Starts `episode` in `world` under physics, on whichever storeys its start and goals
+    /// stand (as [`Env::in_world`](crate::env::Env::in_world)): on one storey this is
+    /// [`PhysicsEnv::new`] on that storey's grid; across storeys the robot's storey follows it
+    /// up and down the flights, d0 is the 3D geodesic and the path is measured in 3D. Whether
+    /// the robot can climb a flight is up to its body and its profile's `step_height`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn in_world(
+        world: &World,
+        scene: &PhysicsScene,
+        episode: &Episode,
+        task: TaskConfig,
+        profile: &RobotProfile,
+        config: PhysicsConfig,
+        seed: u64,
+    ) -> Result<PhysicsEnv, PhysicsEnvError> {
+        // The discrete environment checks the episode and lays out the way.
+        let plan = crate::env::Env::in_world(world, episode, task.clone())?;
+        let Some((route, storey)) = plan.route() else {
+            return PhysicsEnv::new(plan.grid().clone(), scene, episode, task, profile, config, seed);
+        };
+        if !(config.control_period.is_finite() && config.control_period > 0.0) {
+            return Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)).into());
+        }
+        let start = plan.pose();
+        let robot = RigidRobot::new(scene, profile, start, plan.height(), &config.physics)?;
+        let odom = WheelOdometry::new(start, config.odometry.clone(), seed);
+        let goals = episode.goals.iter().map(|g| g.position.xy()).collect();
+        Ok(PhysicsEnv {
+            grid: plan.grid().clone(),
+            field: plan.field().clone(),
+            task,
+            config,
+            robot,
+            odom,
+            start,
+            goals,
+            steps: 0,
+            collisions: 0,
+            path_length: 0.0,
+            d0: plan.start_distance(),
+            called_stop: false,
+            done: false,
+            recent_forward: VecDeque::new(),
+            stuck: false,
+            stuck_cause: None,
+            route: Some((route, storey)),
+        })
+    }
+
+    /// The robot moved from `before` (planar, and its body at height `z_before`, m): the
+    /// path's length, measured in 3D across storeys; on a flight, the storey it counts on.
+    fn moved(&mut self, before: Point2, z_before: f64) -> f64 {
+        let p = self.robot.pose().position();
+        let planar = before.dist(p);
+        match &mut self.route {
+            None => planar,
+            Some((route, storey)) => {
+                let k = route.storey_at(*storey, p);
+                if k != *storey {
+                    if let Some((g, f)) = route.leg(k) {
+                        (self.grid, self.field, *storey) = (g.clone(), f.clone(), k);
+                    }
+                }
+                (planar.powi(2) + (self.robot.z() - z_before).powi(2)).sqrt()
+            }
+        }
+    }
+
+    /// Why the robot got stuck, when a step it cannot climb holds it ("a step 0.17 m high
+    /// ahead, above the robot's step_height 0 m").
+    pub fn stuck_cause(&self) -> Option<&str> {
+        self.stuck_cause.as_deref()
     }
 
     /// Holds `twist` (m/s, rad/s) for `duration` (s), in whole physics steps; updates odometry.
@@ -122,9 +204,9 @@ impl PhysicsEnv {
         if self.done {
             return;
         }
-        let before = self.robot.pose().position();
+        let (before, z) = (self.robot.pose().position(), self.robot.z());
         self.step_twist(twist, duration);
-        self.path_length += before.dist(self.robot.pose().position());
+        self.path_length += self.moved(before, z);
         // Control periods begun, with a tolerance for the rounding of summed physics steps
         // (60 steps of 1/60 s add up to a hair over 1 s, which is still one period).
         let periods = self.robot.sim_time() / self.config.control_period;
@@ -141,6 +223,19 @@ impl PhysicsEnv {
             self.done = true;
             self.steps += 1;
         }
+    }
+
+    /// A step ahead of the robot higher than it climbs, described; `None` when there is none
+    /// (a wall or an object holds it).
+    fn step_ahead(&self) -> Option<String> {
+        let p = self.robot.profile();
+        if let Some(d) = self.robot.cliff() {
+            return Some(format!("a drop of {d:.2} m ahead, deeper than the robot's step_height {} m ({})", p.step_height, p.name));
+        }
+        let rise = self.robot.rise_ahead(0.05)?;
+        (rise > p.step_height + 0.01 && rise < p.height).then(|| {
+            format!("a step {rise:.2} m high ahead, above the robot's step_height {} m ({})", p.step_height, p.name)
+        })
     }
 
     /// Simulated time (s).
@@ -177,11 +272,11 @@ impl DiscreteEnv for PhysicsEnv {
             Action::TurnLeft => Twist { linear: 0.0, angular: turn },
             Action::TurnRight => Twist { linear: 0.0, angular: -turn },
         };
-        let before = self.robot.pose().position();
+        let (before, z) = (self.robot.pose().position(), self.robot.z());
         if action != Action::Stop {
             self.step_twist(twist, t);
         }
-        let moved = before.dist(self.robot.pose().position());
+        let moved = self.moved(before, z);
         self.path_length += moved;
         let mut collided = false;
         if action == Action::MoveForward {
@@ -192,6 +287,9 @@ impl DiscreteEnv for PhysicsEnv {
                 self.recent_forward.pop_front();
             }
             if self.recent_forward.len() == self.config.stuck_window && self.recent_forward.iter().sum::<f64>() < self.config.stuck_distance {
+                if !self.stuck {
+                    self.stuck_cause = self.step_ahead();
+                }
                 self.stuck = true;
             }
         }
@@ -233,5 +331,13 @@ impl EnvView for PhysicsEnv {
 
     fn field(&self) -> &Arc<GoalField> {
         &self.field
+    }
+
+    fn height(&self) -> f64 {
+        match self.route {
+            // The ground under the body: the floor, or a tread.
+            Some(_) => self.robot.ground_z().unwrap_or(self.grid.floor_z),
+            None => self.grid.floor_z,
+        }
     }
 }

@@ -223,3 +223,41 @@ fn each_storeys_map_holds_the_walls_a_slice_through_that_storey_cuts() {
         }
     }
 }
+
+/// Drives `robot` straight along the stair building's flight from `a` towards `b` (forward
+/// moves only, 40 of them) under physics; returns the environment at the end.
+fn drive_straight(robot: &str, a: [f64; 3], yaw: f64, b: [f64; 3]) -> xhab_sim::physics_env::PhysicsEnv {
+    use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
+    use xhab_sim::robot::{PhysicsScene, RobotProfile};
+    let p = StairBuildingParams::default();
+    let scene = stair_building(&p);
+    let ps = PhysicsScene::new(&scene).unwrap();
+    let prof = RobotProfile::named_or_file(robot).unwrap();
+    let world = World::new(scene, AgentParams { radius: prof.radius, ..Default::default() });
+    let mut env = PhysicsEnv::in_world(&world, &ps, &episode(a, yaw, b), TaskConfig::default(), &prof, PhysicsConfig::default(), 1).unwrap();
+    for _ in 0..40 {
+        env.step(xhab_sim::action::Action::MoveForward);
+    }
+    env
+}
+
+#[test]
+fn a_locobot_climbs_the_flight_and_a_turtlebot_is_stuck_at_its_first_step_with_the_cause() {
+    let h = StairBuildingParams::default().storey_height;
+    // Up: the LoCoBot (step_height 0.2) reaches the upper floor; the Burger (0) stops at the
+    // first riser and says so.
+    let up = drive_straight("locobot", [1.5, 0.55, 0.0], 0.0, [9.0, 0.55, h]);
+    assert!(up.robot().ground_z().is_some_and(|z| (z - h).abs() < 0.01), "locobot ends on the ground at {:?}", up.robot().ground_z());
+    assert!(!up.stuck() || up.pose().x > 9.5, "locobot stuck at {:?}", up.pose());
+    let burger = drive_straight("turtlebot3_burger", [1.5, 0.55, 0.0], 0.0, [9.0, 0.55, h]);
+    assert!(burger.stuck(), "burger at {:?}", burger.pose());
+    assert!(burger.robot().ground_z().is_some_and(|z| z.abs() < 0.01), "the burger must not climb: ground {:?}", burger.robot().ground_z());
+    let cause = burger.stuck_cause().unwrap_or_default();
+    assert!(cause.contains("step 0.17 m high") || cause.contains("step 0.18 m high"), "{cause}");
+    // Down: the LoCoBot walks down; the Burger stops at the top edge instead of falling.
+    let down = drive_straight("locobot", [8.5, 0.55, h], std::f64::consts::PI, [1.0, 0.55, 0.0]);
+    assert!(down.robot().ground_z().is_some_and(|z| z.abs() < 0.01), "locobot ends on the ground at {:?}", down.robot().ground_z());
+    let burger = drive_straight("turtlebot3_burger", [8.5, 0.55, h], std::f64::consts::PI, [1.0, 0.55, 0.0]);
+    assert!(burger.stuck() && burger.robot().ground_z().is_some_and(|z| (z - h).abs() < 0.01), "burger at {:?}", burger.pose());
+    assert!(burger.stuck_cause().unwrap_or_default().contains("a drop of 0.1"), "{:?}", burger.stuck_cause());
+}

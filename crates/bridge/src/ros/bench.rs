@@ -249,9 +249,9 @@ async fn episode(sim: &mut SimNode, mut made: MadeEnv, grid: &Arc<xhab_sim::navg
     }
     // The next episode's clock starts a second after this one ended.
     *clock_ns = base_ns + (end_t * 1e9).round() as i64 + 1_000_000_000;
-    let (sim_s, stuck) = match &made {
-        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck())),
-        MadeEnv::Plain(_) => (None, None),
+    let (sim_s, stuck, stuck_cause) = match &made {
+        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
+        MadeEnv::Plain(_) => (None, None, None),
     };
-    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, abort_reason: aborted, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
+    Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, stuck_cause, abort_reason: aborted, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }

@@ -388,6 +388,7 @@ async fn episode(
         trajectory: traj,
         sim_s: Some(env.sim_s()),
         stuck: Some(env.stuck()),
+        stuck_cause: env.stuck_cause().map(str::to_string),
         abort_reason: None,
         final_localization: None,
         localization_error: None,

@@ -33,6 +33,10 @@ pub struct RobotProfile {
     /// The planar laser's mount: its tf frame and where it sits on the base.
     #[serde(default)]
     pub laser: LaserMount,
+    /// Highest step the base climbs up or down (m, default 0: none; Habitat's agent and the
+    /// LoCoBot profile climb Habitat's 0.2).
+    #[serde(default)]
+    pub step_height: f64,
 }
 
 /// Where the planar laser sits on the base (REP-105: a static base_link -> `frame` transform).
@@ -160,6 +164,9 @@ impl RobotProfile {
             if !(v.is_finite() && v > 0.0) {
                 return Err((f, format!("must be a positive number, got {v}")));
             }
+        }
+        if !(self.step_height.is_finite() && self.step_height >= 0.0 && self.step_height < self.height) {
+            return Err(("step_height", format!("must be at least 0 and below the body's height, got {}", self.step_height)));
         }
         if !(self.laser.x.is_finite() && self.laser.y.is_finite()) {
             return Err(("laser", format!("x and y must be finite, got {} and {}", self.laser.x, self.laser.y)));

@@ -9,6 +9,7 @@
 
 use super::profile::RobotProfile;
 use crate::scene::Scene;
+use rapier3d::parry::query::ShapeCastOptions;
 use rapier3d::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -76,6 +77,8 @@ impl PhysicsScene {
 pub struct RigidRobot {
     world: PhysicsWorld,
     body: RigidBodyHandle,
+    /// The body's collision shape (for the step-up queries).
+    shape: SharedShape,
     profile: RobotProfile,
     dt: f64,
     time: f64,
@@ -83,7 +86,12 @@ pub struct RigidRobot {
     applied: Twist,
     /// Commands that carried NaN or infinite components (treated as zero).
     pub rejected_commands: u64,
+    /// The depth of the drop ahead (m) when the last step stopped the base at a cliff.
+    cliff: Option<f64>,
 }
+
+/// The shallowest drop counted as a cliff (m): thresholds and floor joints are not.
+pub const MIN_CLIFF: f64 = 0.05;
 
 impl RigidRobot {
     /// Places the robot at `start` on the floor at height `floor_z` (m).
@@ -107,13 +115,14 @@ impl RigidRobot {
             .can_sleep(false)
             .build();
         let body = world.bodies.insert(rb);
-        let col = ColliderBuilder::capsule_z(half, r)
+        let shape = SharedShape::capsule_z(half, r);
+        let col = ColliderBuilder::new(shape.clone())
             .mass(profile.mass as f32)
             .friction(0.0)
             .friction_combine_rule(CoefficientCombineRule::Min)
             .build();
         world.colliders.insert_with_parent(col, body, &mut world.bodies);
-        Ok(RigidRobot { world, body, profile: profile.clone(), dt: 1.0 / params.steps_per_sec, time: 0.0, applied: Twist::default(), rejected_commands: 0 })
+        Ok(RigidRobot { world, body, shape, profile: profile.clone(), dt: 1.0 / params.steps_per_sec, time: 0.0, applied: Twist::default(), rejected_commands: 0, cliff: None })
     }
 
     /// Advances one physics step under `cmd` (m/s, rad/s in the base frame), clamped to the
@@ -133,13 +142,122 @@ impl RigidRobot {
         self.applied.linear += (target_v - self.applied.linear).clamp(-dv, dv);
         self.applied.angular += (target_w - self.applied.angular).clamp(-dw, dw);
         let yaw = self.pose().yaw;
+        let mut v = self.applied.linear;
+        // A drop deeper than the base can step down is a cliff it stops at (a cliff sensor's
+        // job on a real base; Habitat's agent cannot leave its navmesh either).
+        if v.abs() > 1e-3 {
+            let reach = self.profile.radius + v.abs() * self.dt + 0.02;
+            match self.drop_at(yaw, v.signum() * reach) {
+                Some(d) if d > self.profile.step_height.max(MIN_CLIFF) + 0.01 => {
+                    self.cliff = Some(d);
+                    v = 0.0;
+                    self.applied.linear = 0.0;
+                }
+                _ => self.cliff = None,
+            }
+        }
         let rb = &mut self.world.bodies[self.body];
         let vz = rb.linvel().z;
-        let v = self.applied.linear;
         rb.set_linvel(Vector::new((v * yaw.cos()) as f32, (v * yaw.sin()) as f32, vz), true);
         rb.set_angvel(Vector::new(0.0, 0.0, self.applied.angular as f32), true);
+        let before = rb.translation();
         self.world.step();
         self.time += self.dt;
+        if self.profile.step_height > 0.0 && v.abs() > 1e-3 {
+            let dir = Vector::new((v.signum() * yaw.cos()) as f32, (v.signum() * yaw.sin()) as f32, 0.0);
+            let want = (v.abs() * self.dt) as f32;
+            let after = self.world.bodies[self.body].translation();
+            if (after - before).dot(dir) < 0.5 * want {
+                self.step_up(dir, want);
+            }
+        }
+    }
+
+    /// The base was held back while driving along `dir`: if what holds it is a step no higher
+    /// than the profile's `step_height` with room above it, puts the body on the step, `want`
+    /// (m, at least 2 cm) further along, as a wheeled base with that climb would (Habitat's
+    /// agent follows its navmesh up such steps). Pure geometry queries: deterministic.
+    fn step_up(&mut self, dir: Vector, want: f32) {
+        let lift = self.profile.step_height as f32 + 0.01;
+        let filter = QueryFilter::default().exclude_rigid_body(self.body);
+        let (pos, rot) = {
+            let rb = &self.world.bodies[self.body];
+            (rb.translation(), *rb.rotation())
+        };
+        let up = Pose::from_parts(pos + Vector::new(0.0, 0.0, lift), rot);
+        // The room checks allow the body to touch (5 mm): a base sliding along a wall or
+        // under a ledge steps up beside it.
+        let snug = Capsule::new_z(self.shape.as_capsule().map_or(0.0, |c| c.half_height()), (self.profile.radius as f32 - 0.005).max(0.001));
+        if self.world.intersect_shape(up, &snug, filter).next().is_some() {
+            return;
+        }
+        let d = want.max(0.02);
+        let ahead = self.world.cast_shape(&up, dir * d, &snug, ShapeCastOptions::with_max_time_of_impact(1.0), filter);
+        if ahead.is_some() {
+            return;
+        }
+        let fwd = Pose::from_parts(up.translation + dir * d, rot);
+        // The ground under the moved body: a ball 1 cm narrower than the body whose bottom is the
+        // body's bottom, cast down (the body's own sides may touch a wall beside it).
+        let half = self.shape.as_capsule().map_or(0.0, |c| c.half_height());
+        let rb = (self.profile.radius as f32 - 0.01).max(0.001);
+        let foot = Pose::from_parts(fwd.translation - Vector::new(0.0, 0.0, half + self.profile.radius as f32 - rb), rot);
+        let down = self.world.cast_shape(&foot, Vector::new(0.0, 0.0, -1.0), &Ball::new(rb), ShapeCastOptions::with_max_time_of_impact(lift + 0.02), filter);
+        // Only onto ground higher than where the base stands: a real step.
+        if let Some((_, hit)) = down {
+            if hit.time_of_impact > 0.0 && hit.time_of_impact < lift - 0.005 {
+                let rb = &mut self.world.bodies[self.body];
+                rb.set_translation(fwd.translation - Vector::new(0.0, 0.0, hit.time_of_impact - 0.001), true);
+                let lv = rb.linvel();
+                rb.set_linvel(Vector::new(lv.x, lv.y, 0.0), true);
+            }
+        }
+    }
+
+    /// How far the ground drops (m) at `dist` (m, negative: behind) from the body's centre
+    /// along heading `yaw`, under the ground at the centre; `None` where either has no ground
+    /// within 10 m (positive: lower ahead).
+    fn drop_at(&self, yaw: f64, dist: f64) -> Option<f64> {
+        let here = self.ground_z()?;
+        let t = self.world.bodies[self.body].translation();
+        let o = Vector::new(t.x + (dist * yaw.cos()) as f32, t.y + (dist * yaw.sin()) as f32, t.z);
+        let filter = QueryFilter::default().exclude_rigid_body(self.body);
+        let (_, toi) = self.world.cast_ray(&Ray::new(o, Vector::new(0.0, 0.0, -1.0)), 10.0, true, filter)?;
+        Some(here - (o.z - toi) as f64)
+    }
+
+    /// The depth of the drop (m) the base stopped at in its last physics step, if it did.
+    pub fn cliff(&self) -> Option<f64> {
+        self.cliff
+    }
+
+    /// Height of the ground under the body's centre (m): the top of what a ray straight down
+    /// from the centre meets, or `None` within 10 m.
+    pub fn ground_z(&self) -> Option<f64> {
+        let t = self.world.bodies[self.body].translation();
+        let ray = Ray::new(t, Vector::new(0.0, 0.0, -1.0));
+        let filter = QueryFilter::default().exclude_rigid_body(self.body);
+        self.world.cast_ray(&ray, 10.0, true, filter).map(|(_, toi)| (t.z - toi) as f64)
+    }
+
+    /// How far the ground rises within `ahead` (m) of the body's front along its heading, over
+    /// the ground under its centre (m); `None` where no ground is found.
+    pub fn rise_ahead(&self, ahead: f64) -> Option<f64> {
+        let here = self.ground_z()?;
+        let t = self.world.bodies[self.body].translation();
+        let yaw = self.pose().yaw;
+        let filter = QueryFilter::default().exclude_rigid_body(self.body);
+        let mut best: Option<f64> = None;
+        for k in 1..=8 {
+            let s = (self.profile.radius + ahead * k as f64 / 8.0) as f32;
+            let o = Vector::new(t.x + s * yaw.cos() as f32, t.y + s * yaw.sin() as f32, t.z + self.profile.height as f32);
+            let ray = Ray::new(o, Vector::new(0.0, 0.0, -1.0));
+            if let Some((_, toi)) = self.world.cast_ray(&ray, 10.0, true, filter) {
+                let z = (o.z - toi) as f64 - here;
+                best = Some(best.map_or(z, |b: f64| b.max(z)));
+            }
+        }
+        best
     }
 
     /// Ground-truth planar pose (m, rad).
