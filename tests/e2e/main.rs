@@ -20,3 +20,4 @@ mod experiment;
 mod report;
 mod malformed;
 mod fuzz_regressions;
+mod storeys;
