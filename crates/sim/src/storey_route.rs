@@ -15,6 +15,8 @@ use xhab_types::Point2;
 pub struct StoreyRoute {
     /// Per storey of the world: its grid and field when on the way.
     legs: Vec<Option<(Arc<NavGrid>, Arc<GoalField>)>>,
+    /// Per lower storey of a flight on the way: the height of its portal tread (m).
+    portal_z: Vec<Option<f64>>,
     /// The goals' storey.
     pub goal_storey: usize,
 }
@@ -24,6 +26,7 @@ impl StoreyRoute {
     /// storey on it cannot be built or no flight joins two storeys on it.
     pub fn new(world: &World, start: usize, goal_storey: usize, goals: &[Point2]) -> Option<StoreyRoute> {
         let mut legs: Vec<Option<(Arc<NavGrid>, Arc<GoalField>)>> = vec![None; world.floors.len()];
+        let mut portal_z = vec![None; world.floors.len()];
         let g = world.grid(goal_storey).ok()?;
         let f = g.field(goals);
         legs[goal_storey] = Some((g, f));
@@ -37,6 +40,7 @@ impl StoreyRoute {
             let grid = world.grid(next).ok()?;
             let (mut pts, mut off) = (Vec::new(), Vec::new());
             for p in portals.iter().filter(|p| p.lower == lower) {
+                portal_z[lower] = p.points.first().map(|q| q.z);
                 for q in &p.points {
                     let t = Point2::new(q.x, q.y);
                     let d = fk.distance(&gk, t);
@@ -53,7 +57,7 @@ impl StoreyRoute {
             legs[next] = Some((grid, field));
             k = next;
         }
-        Some(StoreyRoute { legs, goal_storey })
+        Some(StoreyRoute { legs, portal_z, goal_storey })
     }
 
     /// The grid and field of storey `k`, when it is on the way.
@@ -77,10 +81,14 @@ impl StoreyRoute {
                 (Some(a), Some(b)) => (a - b).abs() < 1e-4,
                 _ => false,
             };
-            // Well inside the other storey's region (a cell clear of its edge): where a
-            // storey's part of a flight ends, its grid has an edge the agent must not start at.
-            let inside = gn.clearance_at(p) >= gn.params.radius + gn.resolution();
-            if !same || !gn.on_stairs(p) || !inside {
+            // Only around the flight's portal tread, in the middle of the part both storeys
+            // share: where a storey's part of a flight ends, its grid has an edge the agent
+            // must not change grid at.
+            let near_portal = match (self.portal_z.get(current.min(n)).copied().flatten(), gc.ground_at(p)) {
+                (Some(z), Some(g)) => (g - z).abs() <= 1.5 * gc.params.max_climb,
+                _ => false,
+            };
+            if !same || !near_portal || !gn.on_stairs(p) || !gn.is_navigable(p) {
                 continue;
             }
             // Towards the goals' storey a tie is enough (on a shared flight the next storey's

@@ -165,7 +165,7 @@ fn the_two_storey_procedural_house_has_both_storeys_joined_by_its_flight() {
         let world = World::new(generate_house(seed, &p), AgentParams::default());
         let z: Vec<f64> = world.floors.iter().map(|f| f.z).collect();
         assert_eq!(z.len(), 2, "seed {seed}: floors {z:?}");
-        assert!(z[0].abs() < 1e-6 && (z[1] - (p.wall_height + xhab_sim::scene::house::SLAB)).abs() < 1e-6, "seed {seed}: {z:?}");
+        assert!(z[0].abs() < 1e-4 && (z[1] - (p.wall_height + xhab_sim::scene::house::SLAB)).abs() < 1e-4, "seed {seed}: {z:?}");
         assert_eq!(world.connected_storeys(), vec![(0, 1)], "seed {seed}");
         // Straight up the flight's centre line, from the hall's south landing to its north
         // landing upstairs: one leg.
@@ -261,3 +261,4 @@ fn a_locobot_climbs_the_flight_and_a_turtlebot_is_stuck_at_its_first_step_with_t
     assert!(burger.stuck() && burger.robot().ground_z().is_some_and(|z| (z - h).abs() < 0.01), "burger at {:?}", burger.pose());
     assert!(burger.stuck_cause().unwrap_or_default().contains("a drop of 0.1"), "{:?}", burger.stuck_cause());
 }
+

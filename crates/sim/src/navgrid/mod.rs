@@ -208,7 +208,7 @@ impl NavGrid {
             return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
         }
         let cap = params.radius + 4.0 * res;
-        let stairs = stairs::find(scene, params, &spec, floor_z, bounds, &ground);
+        let stairs = stairs::find(scene, params, &spec, floor_z, bounds);
         let (mut clear, mut nearest, no_floor, drops) = if let Some(st) = &stairs {
             // Each cell's body band stands on its own ground (the floor's band where none).
             ground = st.ground.clone();
@@ -426,6 +426,17 @@ impl NavGrid {
     /// Whether this storey has a flight of stairs to another storey.
     pub fn has_stairs(&self) -> bool {
         !self.stair.is_empty()
+    }
+
+    /// Whether cell `i` is navigable (its centre: on an island).
+    pub fn cell_is_navigable(&self, i: usize) -> bool {
+        self.island_of.get(i).is_some_and(|&k| k != u32::MAX)
+    }
+
+    /// Centre of cell `i` (m).
+    pub fn cell_center(&self, i: usize) -> Point2 {
+        let c = self.center(i);
+        Point2::new(c[0], c[1])
     }
 
     /// Whether cell `i` lies on a flight of stairs.

@@ -68,7 +68,14 @@ pub(crate) struct GridSpec {
 
 /// Calls `f(col, row, zmin, zmax)` for every cell whose square column the triangle touches,
 /// with the height range of the triangle's part inside that column.
-pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], mut f: impl FnMut(usize, usize, f64, f64)) {
+pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], f: impl FnMut(usize, usize, f64, f64)) {
+    for_each_cell_inset(g, tri, 0.0, f)
+}
+
+/// [`for_each_cell`] with each column shrunk by `inset` (m) on every side: with a small inset,
+/// a face lying on a cell's boundary touches neither cell (the walking surfaces of a storey
+/// with stairs: a tread's edge on a boundary is not ground for the cell beyond it).
+pub(crate) fn for_each_cell_inset(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64, mut f: impl FnMut(usize, usize, f64, f64)) {
     let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for p in tri {
         xmin = xmin.min(p[0]);
@@ -85,7 +92,7 @@ pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], mut f: impl FnMut
     }
     let (c1, r1) = (c1 as usize, r1 as usize);
     // Whole triangle inside one cell: no clipping needed.
-    if c0 == c1 && r0 == r1 {
+    if c0 == c1 && r0 == r1 && inset == 0.0 {
         if let Some((lo, hi)) = z_range(tri) {
             f(c0, r0, lo, hi);
         }
@@ -95,13 +102,13 @@ pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], mut f: impl FnMut
     let mut cell_poly: Poly = Vec::with_capacity(10);
     for r in r0..=r1 {
         let ylo = g.y0 + r as f64 * g.res;
-        clip_slab(tri, 1, ylo, ylo + g.res, &mut row_poly);
+        clip_slab(tri, 1, ylo + inset, ylo + g.res - inset, &mut row_poly);
         if row_poly.is_empty() {
             continue;
         }
         for c in c0..=c1 {
             let xlo = g.x0 + c as f64 * g.res;
-            clip_slab(&row_poly, 0, xlo, xlo + g.res, &mut cell_poly);
+            clip_slab(&row_poly, 0, xlo + inset, xlo + g.res - inset, &mut cell_poly);
             if let Some((lo, hi)) = z_range(&cell_poly) {
                 f(c, r, lo, hi);
             }

@@ -61,9 +61,10 @@ impl Surface {
     }
 }
 
-/// Finds the stairs of the storey at `floor_z` whose floor cells have `slab` heights (NaN
-/// where none). `None` when no flight joins another storey.
-pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64, bounds: StoreyBounds, slab: &[f32]) -> Option<StairGround> {
+/// Finds the stairs of the storey at `floor_z` and its walking surface with them (the floor
+/// by the single-storey rule, faces on cell boundaries left out). `None` when no flight joins
+/// another storey.
+pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64, bounds: StoreyBounds) -> Option<StairGround> {
     if bounds.below.is_none() && bounds.above.is_none() {
         return None;
     }
@@ -74,10 +75,14 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
     let (flo, fhi) = (floor_z - climb, floor_z + climb);
     let cos_slope = p.max_slope_deg.to_radians().cos();
     let n = spec.w * spec.h;
+    // On a storey with stairs a face on a cell's boundary is ground (or headroom) for neither
+    // cell: a tread's edge must not lend its height to the cell beside the flight.
+    const INSET: f64 = 1e-6;
 
     // Candidate surfaces per cell outside the floor's window, merged within a climb (the
     // highest wins, as on the floor).
     let mut pieces: Vec<(u32, f32)> = Vec::new();
+    let mut slab_in = vec![f32::NAN; n];
     for t in scene.triangles() {
         let t = t.map(|q| q.map(|v| v as f64));
         let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
@@ -89,9 +94,18 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
             Some(nz) if nz >= cos_slope => {}
             _ => continue,
         }
-        raster::for_each_cell(spec, &t, |c, r, _, h| {
+        raster::for_each_cell_inset(spec, &t, INSET, |c, r, l, h| {
+            let i = (r * spec.w + c) as u32;
             if h >= lo && h < hi && !(h >= flo && h <= fhi) {
-                pieces.push(((r * spec.w + c) as u32, h as f32));
+                pieces.push((i, h as f32));
+            }
+            // The floor's own surface, by the same rule (the highest within its window).
+            if h >= flo && l <= fhi {
+                let g = h.min(fhi) as f32;
+                let s = &mut slab_in[i as usize];
+                if s.is_nan() || g > *s {
+                    *s = g;
+                }
             }
         });
     }
@@ -119,6 +133,7 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
     start[n] = surf.len() as u32;
     // Headroom: no geometry between a climb above a surface and the agent's height above it.
     // The floor's own cells get the same test, so a flight can take over a floor cell under it.
+    let slab = &slab_in;
     let mut floor: Vec<Option<Surface>> = slab.iter().map(|g| g.is_finite().then(|| Surface::new(*g))).collect();
     for t in scene.triangles() {
         let t = t.map(|q| q.map(|v| v as f64));
@@ -127,7 +142,7 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
             continue;
         }
         let faces_up = raster::normal_z_sign(&t) > 0.0;
-        raster::for_each_cell(spec, &t, |c, r, a, b| {
+        raster::for_each_cell_inset(spec, &t, INSET, |c, r, a, b| {
             let i = r * spec.w + c;
             if let Some(s) = &mut floor[i] {
                 s.see(a, b, faces_up, p);

@@ -196,6 +196,8 @@ fn stair_hall(s: &mut Scene, p: &HouseParams, wid: f64, k: usize, storeys: usize
         for j in 1..n {
             let ya = STAIR_FOOT + (j - 1) as f64 * TREAD;
             s.add_box(&format!("s{k}_step_{j}"), f([x0, ya, z0]), f([x1, ya + TREAD, z0 + j as f64 * h]), STAIR);
+            // The handrail's panel on the flight's open side.
+            s.add_box(&format!("s{k}_stair_rail_{j}"), f([x1, ya, z0 + j as f64 * h]), f([x1 + 0.05, ya + TREAD, z0 + j as f64 * h + 1.0]), WALL);
         }
     }
 }

@@ -6,8 +6,9 @@
 //! upper floor's at `storey_height`. The staircase runs along +x against the south wall, from
 //! `stair_x` to `stair_x + steps * tread`, over `y` in `[wall, wall + stair_width]`; step `k`
 //! (1-based) is a solid box whose top is at `k * storey_height / (steps + 1)`, so the last
-//! riser reaches the upper floor. The upper floor has the stairwell open above the whole
-//! flight and a balustrade along the opening's north and west edges.
+//! riser reaches the upper floor, with a rail panel 5 cm wide on its open (north) side. The
+//! upper floor has the stairwell open above the whole flight and a balustrade along the
+//! opening's north and west edges.
 
 use super::Scene;
 use serde::{Deserialize, Serialize};
@@ -118,6 +119,8 @@ pub fn stair_building(p: &StairBuildingParams) -> Scene {
         for k in 1..=p.steps {
             let xa = x0 + (k - 1) as f64 * p.tread;
             s.add_box(&format!("step_{k}"), f([xa, y0, 0.0]), f([xa + p.tread, y1, k as f64 * p.riser()]), STAIR);
+            // The handrail's balusters along the open side, one panel per step.
+            s.add_box(&format!("stair_rail_{k}"), f([xa, y1, k as f64 * p.riser()]), f([xa + p.tread, y1 + 0.05, k as f64 * p.riser() + RAIL]), WALL);
         }
         // The balustrade around the stairwell on the upper floor.
         s.add_box("balustrade_north", f([x0 - 0.05, y1, h]), f([x1, y1 + 0.05, h + RAIL]), WALL);
