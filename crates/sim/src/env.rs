@@ -210,7 +210,7 @@ impl Env {
             called_stop: false,
             done: false,
             route: None,
-            height: grid.floor_z,
+            height: grid.surface_height(start.position()),
             grid,
         })
     }
@@ -305,6 +305,12 @@ impl DiscreteEnv for Env {
                 let to = Point2::new(from.x + c * self.config.forward_step_size, from.y + s * self.config.forward_step_size);
                 let (end, hit) = try_step(&self.grid, from, to);
                 match &mut self.route {
+                    // On a storey with stairs the agent's height follows the surface there too.
+                    None if self.grid.has_stairs() => {
+                        let z = self.grid.surface_height(end);
+                        self.path_length += (from.dist(end).powi(2) + (z - self.height).powi(2)).sqrt();
+                        self.height = z;
+                    }
                     None => self.path_length += from.dist(end),
                     Some((route, storey)) => {
                         // Across storeys the path is measured in 3D, and on a flight the agent
