@@ -238,6 +238,24 @@ impl PhysicsEnv {
         })
     }
 
+    /// A step or drop beside the robot, in any of 16 directions from its heading on, that it
+    /// cannot climb, described; `None` when there is none.
+    fn step_around(&self) -> Option<String> {
+        let p = self.robot.profile();
+        let yaw = self.robot.pose().yaw;
+        let cliff = p.step_height.max(crate::robot::MIN_CLIFF) + 0.01;
+        (0..16).find_map(|k| {
+            let h = yaw + k as f64 * std::f64::consts::PI / 8.0;
+            match (self.robot.rise_toward(h, 0.05), self.robot.drop_at(h, p.radius + 0.05)) {
+                (Some(r), _) if r > p.step_height + 0.01 && r < p.height => {
+                    Some(format!("a step {r:.2} m high ahead, above the robot's step_height {} m ({})", p.step_height, p.name))
+                }
+                (_, Some(d)) if d > cliff => Some(format!("a drop of {d:.2} m ahead, deeper than the robot's step_height {} m ({})", p.step_height, p.name)),
+                _ => None,
+            }
+        })
+    }
+
     /// Simulated time (s).
     pub fn sim_s(&self) -> f64 {
         self.robot.sim_time()
@@ -296,6 +314,14 @@ impl DiscreteEnv for PhysicsEnv {
         self.steps += 1;
         self.collisions += collided as u32;
         self.done = self.called_stop || self.steps >= self.task.max_episode_steps;
+        // Across storeys, a robot that runs out of steps at a step or drop it cannot take is
+        // stuck there, whatever it was doing last (turning to find a way round, say).
+        if self.done && !self.called_stop && !self.stuck && self.route.is_some() {
+            if let Some(cause) = self.step_around() {
+                self.stuck = true;
+                self.stuck_cause = Some(cause);
+            }
+        }
         StepResult { obs: self.observe(), done: self.done, collided }
     }
 

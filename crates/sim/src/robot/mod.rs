@@ -6,4 +6,4 @@ pub mod rigid;
 
 pub use odometry::{OdometryNoise, WheelOdometry};
 pub use profile::{LaserMount, ProfileError, RobotProfile};
-pub use rigid::{PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, SharedPhysicsScene};
+pub use rigid::{PhysicsError, PhysicsParams, PhysicsScene, RigidRobot, SharedPhysicsScene, MIN_CLIFF};

@@ -217,7 +217,7 @@ impl RigidRobot {
     /// How far the ground drops (m) at `dist` (m, negative: behind) from the body's centre
     /// along heading `yaw`, under the ground at the centre; `None` where either has no ground
     /// within 10 m (positive: lower ahead).
-    fn drop_at(&self, yaw: f64, dist: f64) -> Option<f64> {
+    pub fn drop_at(&self, yaw: f64, dist: f64) -> Option<f64> {
         let here = self.ground_z()?;
         let t = self.world.bodies[self.body].translation();
         let o = Vector::new(t.x + (dist * yaw.cos()) as f32, t.y + (dist * yaw.sin()) as f32, t.z);
@@ -243,9 +243,13 @@ impl RigidRobot {
     /// How far the ground rises within `ahead` (m) of the body's front along its heading, over
     /// the ground under its centre (m); `None` where no ground is found.
     pub fn rise_ahead(&self, ahead: f64) -> Option<f64> {
+        self.rise_toward(self.pose().yaw, ahead)
+    }
+
+    /// [`RigidRobot::rise_ahead`] along heading `yaw` (rad).
+    pub fn rise_toward(&self, yaw: f64, ahead: f64) -> Option<f64> {
         let here = self.ground_z()?;
         let t = self.world.bodies[self.body].translation();
-        let yaw = self.pose().yaw;
         let filter = QueryFilter::default().exclude_rigid_body(self.body);
         let mut best: Option<f64> = None;
         for k in 1..=8 {
