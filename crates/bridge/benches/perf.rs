@@ -139,7 +139,7 @@ fn bench_scene(c: &mut Criterion, name: &str, arg: &str) {
     g.bench_function("physics_steps", |b| {
         b.iter(|| {
             n += 1;
-            let twist = if (n / 120) % 2 == 0 { xhab_types::Twist { linear: 0.25, angular: 0.0 } } else { xhab_types::Twist { linear: 0.0, angular: 0.5 } };
+            let twist = if (n / 120) % 2 == 1 { xhab_types::Twist { linear: 0.0, angular: 0.5 } } else { xhab_types::Twist { linear: 0.25, angular: 0.0 } };
             robot.step_physics(twist);
         })
     });
@@ -164,7 +164,7 @@ fn bench_scene(c: &mut Criterion, name: &str, arg: &str) {
         b.iter(|| {
             // Alternate small moves so that every call passes update_min_d.
             m += 1;
-            pose = pose.compose(xhab_types::Pose2::new(0.21 * if m % 2 == 0 { 1.0 } else { -1.0 }, 0.0, 0.0));
+            pose = pose.compose(xhab_types::Pose2::new(0.21 * if m % 2 == 1 { -1.0 } else { 1.0 }, 0.0, 0.0));
             black_box(amcl.update(pose, &scan, xhab_types::Pose2::default()))
         })
     });
