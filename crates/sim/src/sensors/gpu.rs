@@ -21,7 +21,7 @@
 //!
 //! Colour follows [`super::surface`] exactly: untextured triangles carry their sRGB colour;
 //! textured ones their linear factor and their texels per metre ([`super::mipmap::texel_scale`]),
-//! and the fragment shader samples the texture by hand (trilinear over the mip pyramid with
+//! and the fragment shader samples the texture by hand (over the mip pyramid with
 //! the level of detail of [`super::mipmap`], from the ray's length, the pixel's angular size
 //! `1 / fx` carried in the view's `origin.w` and the cosine of incidence; bilinear within a
 //! level, wrap modes, the same sRGB tables) from one storage buffer holding every level of
@@ -330,18 +330,22 @@ fn srgb_byte(x: f32) -> f32 {
     return f32(c);
 }
 
-// Linear RGB of the texture whose level 0 is entry `first` at uv, trilinear at level of
-// detail `lod` in [0, levels - 1] (as mipmap::MipChain::sample).
+// Linear RGB of the texture whose level 0 is entry `first` at uv for level of detail `lod`
+// in [0, levels - 1]: level floor(lod), the next, or both blended in a band of width
+// mipmap::BLEND (0.25) around each half level (as mipmap::MipChain::sample).
 fn sample_mip(first: u32, uv: vec2<f32>, lod: f32) -> vec3<f32> {
     let levels = textures[first].wrap >> 16u;
     let l = min(u32(lod), levels - 1u);
-    let f = lod - f32(l);
-    let a = sample_tex(textures[first + l], uv);
-    if f > 0.0 && l + 1u < levels {
-        let b = sample_tex(textures[first + l + 1u], uv);
-        return a * (1.0 - f) + b * f;
+    let w = clamp((lod - f32(l) - (1.0 - 0.25) * 0.5) / 0.25, 0.0, 1.0);
+    if l + 1u < levels && w >= 1.0 {
+        return sample_tex(textures[first + l + 1u], uv);
     }
-    return a;
+    if l + 1u < levels && w > 0.0 {
+        let a = sample_tex(textures[first + l], uv);
+        let b = sample_tex(textures[first + l + 1u], uv);
+        return a * (1.0 - w) + b * w;
+    }
+    return sample_tex(textures[first + l], uv);
 }
 
 @fragment

@@ -13,14 +13,21 @@
 //! of incidence (at least [`MIN_COS`]), times the triangle's texels per metre
 //! ([`texel_scale`]: `sqrt(uv area / world area)` times the texture's larger side). Below one
 //! texel it is 0 (the image itself, bilinear as before); otherwise it is clamped to the
-//! coarsest level and sampled trilinearly: bilinear in the two levels around it, blended by
-//! its fraction. Everything is `f32` in the shader's order, and the colour is continuous in
-//! the level of detail, so renderers that compute it a few ulps apart still agree to within
-//! rounding.
+//! coarsest level. A level of detail `l + f` (`f` its fraction) reads levels `l` and `l + 1`
+//! bilinearly and blends them, the weight of level `l + 1` being
+//! `clamp((f - (1 - BLEND) / 2) / BLEND, 0, 1)`: only in a band of width [`BLEND`] around each
+//! half level are two levels read, elsewhere one (trilinear filtering narrowed to the level
+//! changes, as GPUs' "brilinear" filtering: 1.25 bilinear samples per pixel on average instead
+//! of 2, with no visible seam where the level changes). Everything is `f32` in the shader's order, and the colour is continuous in the level
+//! of detail, so renderers that compute it a few ulps apart still agree to within rounding.
 
 use super::surface::{linear_to_srgb_byte, sample_bilinear, srgb_table};
 use crate::scene::Texture;
 use rayon::prelude::*;
+
+/// Width of the band of level-of-detail fractions, centred on one half, where two levels are
+/// blended; outside it a pixel reads one level.
+pub const BLEND: f32 = 0.25;
 
 /// Smallest cosine of incidence the footprint divides by: grazing surfaces read the level a
 /// cosine of 1/1000 gives (in practice the coarsest).
@@ -48,21 +55,28 @@ impl MipChain {
     }
 
     /// Linear RGB of the texture at `uv` for level of detail `lod` (in `[0, levels - 1]`, as
-    /// [`level_of_detail`] gives it): bilinear in levels `floor(lod)` and the next, blended
-    /// by the fraction.
+    /// [`level_of_detail`] gives it): bilinear in level `floor(lod)`, in the next, or both
+    /// blended when the fraction is within [`BLEND`] of one half (see the module).
     #[inline]
     pub fn sample(&self, uv: [f32; 2], lod: f32) -> [f32; 3] {
         let l = (lod as usize).min(self.levels.len() - 1);
-        let f = lod - l as f32;
-        let a = sample_bilinear(&self.levels[l], uv);
+        let w = next_level_weight(lod - l as f32);
         match self.levels.get(l + 1) {
-            Some(next) if f > 0.0 => {
-                let b = sample_bilinear(next, uv);
-                std::array::from_fn(|k| a[k] * (1.0 - f) + b[k] * f)
+            Some(next) if w >= 1.0 => sample_bilinear(next, uv),
+            Some(next) if w > 0.0 => {
+                let (a, b) = (sample_bilinear(&self.levels[l], uv), sample_bilinear(next, uv));
+                std::array::from_fn(|k| a[k] * (1.0 - w) + b[k] * w)
             }
-            _ => a,
+            _ => sample_bilinear(&self.levels[l], uv),
         }
     }
+}
+
+/// The weight of level `l + 1` for a level of detail `l + f`: 0 up to `(1 - BLEND) / 2`, 1
+/// from `(1 + BLEND) / 2`, linear between.
+#[inline]
+pub fn next_level_weight(f: f32) -> f32 {
+    ((f - (1.0 - BLEND) * 0.5) / BLEND).clamp(0.0, 1.0)
 }
 
 /// The next level of `t` (both sides halved, rounding down, at least 1): box averages in
@@ -170,11 +184,21 @@ mod tests {
         for l in &c.levels[1..] {
             assert!(l.rgba.chunks(4).all(|p| p[..3] == [188, 188, 188]), "{:?}", &l.rgba[..8]);
         }
-        // Trilinear between level 0 and 1 moves continuously from the texel to the grey.
+        // Between level 0 and 1 the colour moves continuously from the texel to the grey:
+        // level 0 alone up to 0.375, level 1 alone from 0.625, blended between.
         let at = |lod: f32| c.sample([0.5 / 16.0, 0.5 / 16.0], lod)[0];
-        assert_eq!(at(0.0), 1.0);
         let g = srgb_table()[188];
-        assert!((at(1.0) - g).abs() < 1e-6 && (at(0.5) - (1.0 + g) / 2.0).abs() < 1e-6, "{} {}", at(1.0), at(0.5));
+        assert_eq!((at(0.0), at(0.375)), (1.0, 1.0));
+        assert!((at(0.625) - g).abs() < 1e-6 && (at(1.0) - g).abs() < 1e-6, "{} {}", at(0.625), at(1.0));
+        assert!((at(0.5) - (1.0 + g) / 2.0).abs() < 1e-6, "{}", at(0.5));
+        let mut last = at(0.0);
+        for i in 1..=100 {
+            let x = at(i as f32 / 100.0);
+            assert!(x <= last && last - x < 0.05, "not continuous at lod {}: {last} -> {x}", i as f32 / 100.0);
+            last = x;
+        }
+        assert_eq!(next_level_weight(0.5), 0.5);
+        assert_eq!((next_level_weight(0.0), next_level_weight(0.99)), (0.0, 1.0));
         // The same bytes each time it is built.
         assert_eq!(MipChain::new(&c.levels[0]).levels, c.levels);
     }

@@ -1,9 +1,10 @@
 //! The colour of a surface point, one rule for every renderer (the wgpu shader mirrors it).
 //!
 //! A material is glTF's base colour: a linear RGB factor times, when the mesh has a texture,
-//! the texture sampled at the point's texture coordinates. Sampling is trilinear over the
-//! texture's mip pyramid ([`super::mipmap`]: the level of detail from the pixel's footprint on
-//! the surface, so far textures neither alias nor read scattered texels); within a level,
+//! the texture sampled at the point's texture coordinates. Sampling reads the one or two
+//! levels of the texture's mip pyramid around the level of detail that the pixel's footprint
+//! on the surface gives ([`super::mipmap`], so far textures neither alias nor read scattered
+//! texels); within a level,
 //! bilinear between the four nearest texels (centres at half-integer texel positions), each
 //! wrapped by the texture's wrap modes, after decoding the texels from sRGB to linear (a
 //! 256-entry table, shared with the GPU). Up close (a footprint under one texel) that is
