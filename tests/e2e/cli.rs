@@ -351,3 +351,29 @@ fn nav_agent_navigates_on_scans_from_the_depth_camera() {
     assert!(a["success"].as_f64().unwrap() >= 0.75, "{a}");
     assert!(a["localization_error_m"].as_f64().unwrap() < 0.15, "{a}");
 }
+
+#[test]
+fn perf_only_runs_the_groups_asked_for() {
+    // Two groups, one as a comma list and one by repeating the flag.
+    let out = run(&["perf", "procedural:3", "--only", "grid,discrete", "--only", "geodesic", "--seconds", "0.02", "--json"]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for f in ["map_build_s", "discrete_steps_per_s", "oracle_steps_per_s", "geodesic_pair_queries_per_s", "geodesic_queries_per_s", "triangles"] {
+        assert!(j[f].as_f64().is_some_and(|x| x.is_finite() && x >= 0.0), "{f} missing in {j}");
+    }
+    for f in ["depth_steps_per_s", "amcl_update_ms", "physics_steps_per_s", "physics_action_steps_per_s"] {
+        assert!(j.get(f).is_none(), "{f} should be absent: {j}");
+    }
+    let out = run(&["perf", "procedural:3", "--only", "amcl", "--seconds", "0.02", "--json"]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(j["amcl_update_ms"].as_f64().is_some(), "{j}");
+    for f in ["map_build_s", "discrete_steps_per_s", "geodesic_pair_queries_per_s"] {
+        assert!(j.get(f).is_none(), "{f} should be absent: {j}");
+    }
+    // An unknown group is a usage error listing the valid ones.
+    let out = xhab().args(["perf", "procedural:3", "--only", "gpu"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    for g in ["geodesic", "grid", "discrete", "physics", "sensors", "amcl"] {
+        assert!(err.contains(g), "{err}");
+    }
+}

@@ -8,6 +8,10 @@
 //! queries, and discrete steps (motion with sliding plus the step's metric update) without
 //! rendering. Optional sections time rendering at every step, AMCL updates, the native
 //! navigation loop ([`crate::nav_perf`]) and physics.
+//!
+//! [`PerfOptions::groups`] (`xhab perf --only GROUP`) runs some [`PerfGroup`]s alone; the
+//! figures of the groups not run are absent from the JSON (never zero or null). The grid is
+//! built whatever the groups, since every figure stands on it; only `grid` times it.
 
 use crate::nav_perf::{nav_perf, NavPerf, NavPerfError};
 use crate::setup::{self, CameraOptions, PhysicsOptions, SceneOptions, SetupError};
@@ -37,6 +41,47 @@ pub const PERF_AMCL_PARTICLES: usize = 5000;
 /// Beams per AMCL update of the AMCL figure.
 pub const PERF_AMCL_BEAMS: usize = 60;
 
+/// A group of figures that `xhab perf --only GROUP` runs alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PerfGroup {
+    /// `geodesic_queries_per_s`, `geodesic_field_build_s`, `geodesic_pair_queries_per_s`.
+    Geodesic,
+    /// `map_build_s` (best of three).
+    Grid,
+    /// `discrete_steps_per_s`, `oracle_steps_per_s`.
+    Discrete,
+    /// The physics section (`physics_steps_per_s`, `physics_action_steps_per_s`, ...).
+    Physics,
+    /// The rendering section (`depth_steps_per_s`, ...); `depth` when no sensor is given.
+    Sensors,
+    /// The AMCL section (`amcl_update_ms`, ...).
+    Amcl,
+}
+
+impl PerfGroup {
+    /// Every group, in the order the figures are measured.
+    pub const ALL: [PerfGroup; 6] = [PerfGroup::Grid, PerfGroup::Geodesic, PerfGroup::Discrete, PerfGroup::Sensors, PerfGroup::Amcl, PerfGroup::Physics];
+    /// The groups' names, as `--only` spells them.
+    pub const NAMES: [&'static str; 6] = ["geodesic", "grid", "discrete", "physics", "sensors", "amcl"];
+
+    /// The name `--only` spells this group with.
+    pub fn name(self) -> &'static str {
+        match self {
+            PerfGroup::Geodesic => "geodesic",
+            PerfGroup::Grid => "grid",
+            PerfGroup::Discrete => "discrete",
+            PerfGroup::Physics => "physics",
+            PerfGroup::Sensors => "sensors",
+            PerfGroup::Amcl => "amcl",
+        }
+    }
+
+    /// The group of a name as `--only` spells it, `None` for an unknown name.
+    pub fn from_name(name: &str) -> Option<PerfGroup> {
+        PerfGroup::ALL.into_iter().find(|g| g.name() == name)
+    }
+}
+
 /// What to measure on which scene, as `xhab perf`'s flags give it.
 #[derive(Debug, Clone)]
 pub struct PerfOptions {
@@ -61,6 +106,10 @@ pub struct PerfOptions {
     pub amcl: bool,
     /// Time the native navigation loop on a fixed episode set ([`crate::nav_perf`]).
     pub nav: bool,
+    /// Run only these groups (`--only`), whatever `measure_physics`, `sensors` and `amcl`
+    /// say (`sensors` then defaults to `depth`); empty: the base figures and the sections
+    /// the flags ask for. `nav` is no group: its flag alone decides.
+    pub groups: Vec<PerfGroup>,
 }
 
 impl PerfOptions {
@@ -78,13 +127,39 @@ impl PerfOptions {
             batch: None,
             amcl: false,
             nav: false,
+            groups: Vec::new(),
+        }
+    }
+
+    /// Whether the figures of group `g` are measured: it is listed in `groups`, or `groups`
+    /// is empty and `g` is a base group or its section's flag is set.
+    pub fn runs(&self, g: PerfGroup) -> bool {
+        if !self.groups.is_empty() {
+            return self.groups.contains(&g);
+        }
+        match g {
+            PerfGroup::Geodesic | PerfGroup::Grid | PerfGroup::Discrete => true,
+            PerfGroup::Physics => self.measure_physics,
+            PerfGroup::Sensors => !self.sensors.is_empty(),
+            PerfGroup::Amcl => self.amcl,
+        }
+    }
+
+    /// The sensors the rendering figures render: `sensors`, or `depth` when the `sensors`
+    /// group was asked for by `--only` alone.
+    pub fn rendered_sensors(&self) -> Vec<String> {
+        if self.sensors.is_empty() && self.runs(PerfGroup::Sensors) {
+            vec!["depth".to_string()]
+        } else {
+            self.sensors.clone()
         }
     }
 }
 
 /// The figures of one scene. Serialized (through `serde_json::Value`, whose keys are sorted)
 /// it is exactly the JSON `xhab perf --json` prints: the optional sections' fields sit at the
-/// top level, absent when the section was not asked for.
+/// top level, absent when the section was not asked for, and a figure of a [`PerfGroup`]
+/// not run is absent too.
 #[derive(Debug, Clone, Serialize)]
 pub struct ScenePerf {
     /// The SCENE argument.
@@ -98,17 +173,23 @@ pub struct ScenePerf {
     /// Cell size of the navigation grid (m).
     pub cell_size_m: f64,
     /// Map build, best of three: floor detection, grid and corner graph (s).
-    pub map_build_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map_build_s: Option<f64>,
     /// Geodesic distance queries against built goal fields (1/s).
-    pub geodesic_queries_per_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geodesic_queries_per_s: Option<f64>,
     /// Mean build time of one goal field (s).
-    pub geodesic_field_build_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geodesic_field_build_s: Option<f64>,
     /// Cold point-to-point geodesic queries, one goal-directed search each (1/s).
-    pub geodesic_pair_queries_per_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geodesic_pair_queries_per_s: Option<f64>,
     /// Discrete steps with random actions, no rendering (1/s).
-    pub discrete_steps_per_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub discrete_steps_per_s: Option<f64>,
     /// Discrete steps of the shortest-path oracle, its decisions included (1/s).
-    pub oracle_steps_per_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub oracle_steps_per_s: Option<f64>,
     /// Threads the figures ran on (always 1).
     pub threads: usize,
     /// Sum of the queried distances, so that no query is optimised away (m).
@@ -213,15 +294,16 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
         return Err(PerfError::BadSeconds);
     }
     // Checked before the long figures, so that a typo fails at once.
-    let rgb = setup::parse_sensors(&o.sensors)?;
+    let sensors = o.rendered_sensors();
+    let rgb = setup::parse_sensors(&sensors)?;
     let scene = setup::load_scene(&o.scene, &o.scene_options)?;
     let tris = scene.triangle_count();
     let params = setup::agent_params(&o.scene_options);
     let no_floor = || SetupError::NoWalkableFloor(o.scene.clone());
-    // Map build: best of three (floor detection + grid + corner graph).
+    // Map build: best of three (floor detection + grid + corner graph) when timed, else once.
     let mut build_s = f64::INFINITY;
     let mut world = None;
-    for _ in 0..3 {
+    for _ in 0..if o.runs(PerfGroup::Grid) { 3 } else { 1 } {
         let t = Instant::now();
         let w = World::new(scene.clone(), params.clone());
         let f = w.default_floor().ok_or_else(no_floor)?;
@@ -236,46 +318,10 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut sample = || grid.sample_navigable_point(&cells, &mut rng).ok_or(PerfError::Setup(SetupError::NoNavigablePoint));
 
-    // Geodesic fields and queries.
+    // The same points whatever the groups, so that a group's figures do not depend on the
+    // others being run.
     let goals: Vec<_> = (0..PERF_GOALS).map(|_| sample()).collect::<Result<_, _>>()?;
     let queries: Vec<_> = (0..PERF_QUERIES).map(|_| sample().map(|p| p.xy())).collect::<Result<_, _>>()?;
-    let mut field_s = 0.0;
-    let mut fields = Vec::new();
-    for g in &goals {
-        let t = Instant::now();
-        fields.push(GoalField::new(&grid, &[g.xy()]));
-        field_s += t.elapsed().as_secs_f64();
-    }
-    let field_s = field_s / goals.len() as f64;
-    let mut checksum = 0.0;
-    // Cold point-to-point queries: a goal-directed search per pair.
-    let t = Instant::now();
-    let mut pairs = 0u64;
-    while t.elapsed().as_secs_f64() < o.seconds * 0.25 || pairs < 8 {
-        let (p, q) = (queries[pairs as usize % queries.len()], goals[pairs as usize % goals.len()].xy());
-        let d = xhab_sim::geodesic::geodesic_distance(&grid, p, q);
-        if d.is_finite() {
-            checksum += d;
-        }
-        pairs += 1;
-    }
-    let pair_rate = pairs as f64 / t.elapsed().as_secs_f64();
-    let (mut nq, mut q_s) = (0u64, 0.0);
-    while q_s < o.seconds * 0.5 {
-        let t = Instant::now();
-        for f in &fields {
-            for q in &queries {
-                let d = f.distance(&grid, *q);
-                if d.is_finite() {
-                    checksum += d;
-                }
-            }
-        }
-        q_s += t.elapsed().as_secs_f64();
-        nq += (fields.len() * queries.len()) as u64;
-    }
-
-    // Discrete steps: random actions (no stop) and the oracle, timing env.step only.
     let episodes: Vec<Episode> = (0..PERF_EPISODES)
         .map(|i| -> Result<Episode, PerfError> {
             let s = sample()?;
@@ -291,23 +337,122 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
             })
         })
         .collect::<Result<_, _>>()?;
+    let mut checksum = 0.0;
+    let geodesic = if o.runs(PerfGroup::Geodesic) { Some(geodesic_perf(&grid, &goals, &queries, o.seconds, &mut checksum)) } else { None };
+
     // Each episode's start (its goal field included) is built once and cloned for every run.
-    let starts: Vec<Env> = episodes.iter().filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).collect();
-    if starts.is_empty() {
+    let need_starts = o.runs(PerfGroup::Discrete) || o.runs(PerfGroup::Sensors);
+    let starts: Vec<Env> =
+        if need_starts { episodes.iter().filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).collect() } else { Vec::new() };
+    if need_starts && starts.is_empty() {
         return Err(PerfError::NoValidEpisode);
     }
+    let discrete = if o.runs(PerfGroup::Discrete) { Some(discrete_perf(&starts, o.seconds, &mut checksum)) } else { None };
+    let mut out = ScenePerf {
+        scene: o.scene.clone(),
+        triangles: tris,
+        floor_height_m: grid.floor_z,
+        navigable_area_m2: grid.navigable_cells() as f64 * grid.resolution().powi(2),
+        cell_size_m: grid.resolution(),
+        map_build_s: o.runs(PerfGroup::Grid).then_some(build_s),
+        geodesic_queries_per_s: geodesic.map(|g| g.queries_per_s),
+        geodesic_field_build_s: geodesic.map(|g| g.field_build_s),
+        geodesic_pair_queries_per_s: geodesic.map(|g| g.pair_queries_per_s),
+        discrete_steps_per_s: discrete.map(|d| d.0),
+        oracle_steps_per_s: discrete.map(|d| d.1),
+        threads: 1,
+        checksum,
+        rendering: None,
+        amcl: None,
+        nav: None,
+        physics: None,
+        renderer_note: None,
+    };
+    if o.runs(PerfGroup::Sensors) {
+        let (r, note) = render_perf(&world, &starts, o, &sensors, rgb)?;
+        out.rendering = Some(r);
+        out.renderer_note = Some(note);
+    }
+    if o.runs(PerfGroup::Amcl) {
+        out.amcl = Some(amcl_perf(&world, &grid, &episodes, o.seconds)?);
+    }
+    if o.nav {
+        out.nav = Some(nav_perf(&world, &o.scene, &o.physics.robot)?);
+    }
+    if o.runs(PerfGroup::Physics) {
+        out.physics = Some(physics_perf(&world, &grid, &episodes, o)?);
+    }
+    Ok(out)
+}
+
+/// The geodesic figures of one grid.
+#[derive(Debug, Clone, Copy)]
+struct GeodesicPerf {
+    /// Queries against built goal fields (1/s).
+    queries_per_s: f64,
+    /// Mean build time of one goal field (s).
+    field_build_s: f64,
+    /// Cold point-to-point queries (1/s).
+    pair_queries_per_s: f64,
+}
+
+/// Times goal-field builds (one per goal), cold point-to-point queries (a quarter of
+/// `seconds`) and queries against the built fields (half of `seconds`); adds the finite
+/// distances to `checksum`.
+fn geodesic_perf(grid: &Arc<NavGrid>, goals: &[xhab_types::Point3], queries: &[xhab_types::Point2], seconds: f64, checksum: &mut f64) -> GeodesicPerf {
+    let mut field_s = 0.0;
+    let mut fields = Vec::new();
+    for g in goals {
+        let t = Instant::now();
+        fields.push(GoalField::new(grid, &[g.xy()]));
+        field_s += t.elapsed().as_secs_f64();
+    }
+    let field_s = field_s / goals.len() as f64;
+    // Cold point-to-point queries: a goal-directed search per pair.
+    let t = Instant::now();
+    let mut pairs = 0u64;
+    while t.elapsed().as_secs_f64() < seconds * 0.25 || pairs < 8 {
+        let (p, q) = (queries[pairs as usize % queries.len()], goals[pairs as usize % goals.len()].xy());
+        let d = xhab_sim::geodesic::geodesic_distance(grid, p, q);
+        if d.is_finite() {
+            *checksum += d;
+        }
+        pairs += 1;
+    }
+    let pair_rate = pairs as f64 / t.elapsed().as_secs_f64();
+    let (mut nq, mut q_s) = (0u64, 0.0);
+    while q_s < seconds * 0.5 {
+        let t = Instant::now();
+        for f in &fields {
+            for q in queries {
+                let d = f.distance(grid, *q);
+                if d.is_finite() {
+                    *checksum += d;
+                }
+            }
+        }
+        q_s += t.elapsed().as_secs_f64();
+        nq += (fields.len() * queries.len()) as u64;
+    }
+    GeodesicPerf { queries_per_s: nq as f64 / q_s, field_build_s: field_s, pair_queries_per_s: pair_rate }
+}
+
+/// Discrete steps for about `seconds`: random actions (no stop) and the oracle from each
+/// start, timing `env.step` (and the oracle's decisions) only. Returns (random steps/s,
+/// oracle steps/s).
+fn discrete_perf(starts: &[Env], seconds: f64, checksum: &mut f64) -> (f64, f64) {
     let mut act_rng = ChaCha8Rng::seed_from_u64(11);
     let (mut steps, mut step_s) = (0u64, 0.0);
     let (mut osteps, mut ostep_s) = (0u64, 0.0);
-    while step_s + ostep_s < o.seconds {
-        for start in &starts {
+    while step_s + ostep_s < seconds {
+        for start in starts {
             let mut env = start.clone();
             let actions: Vec<Action> = (0..500).map(|_| random_action(&mut act_rng)).collect();
             let t = Instant::now();
             for &act in &actions {
                 env.step(act);
             }
-            checksum += env.distance_to_goal().min(1e3);
+            *checksum += env.distance_to_goal().min(1e3);
             step_s += t.elapsed().as_secs_f64();
             steps += actions.len() as u64;
 
@@ -322,41 +467,7 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
             ostep_s += t.elapsed().as_secs_f64();
         }
     }
-    let mut out = ScenePerf {
-        scene: o.scene.clone(),
-        triangles: tris,
-        floor_height_m: grid.floor_z,
-        navigable_area_m2: grid.navigable_cells() as f64 * grid.resolution().powi(2),
-        cell_size_m: grid.resolution(),
-        map_build_s: build_s,
-        geodesic_queries_per_s: nq as f64 / q_s,
-        geodesic_field_build_s: field_s,
-        geodesic_pair_queries_per_s: pair_rate,
-        discrete_steps_per_s: steps as f64 / step_s,
-        oracle_steps_per_s: osteps as f64 / ostep_s,
-        threads: 1,
-        checksum,
-        rendering: None,
-        amcl: None,
-        nav: None,
-        physics: None,
-        renderer_note: None,
-    };
-    if !o.sensors.is_empty() {
-        let (r, note) = render_perf(&world, &starts, o, rgb)?;
-        out.rendering = Some(r);
-        out.renderer_note = Some(note);
-    }
-    if o.amcl {
-        out.amcl = Some(amcl_perf(&world, &grid, &episodes, o.seconds)?);
-    }
-    if o.nav {
-        out.nav = Some(nav_perf(&world, &o.scene, &o.physics.robot)?);
-    }
-    if o.measure_physics {
-        out.physics = Some(physics_perf(&world, &grid, &episodes, o)?);
-    }
-    Ok(out)
+    (steps as f64 / step_s, osteps as f64 / ostep_s)
 }
 
 /// Physics figures: raw physics steps of one robot, and discrete actions via Algorithm 1.
@@ -408,7 +519,7 @@ fn physics_perf(world: &World, grid: &Arc<NavGrid>, episodes: &[Episode], o: &Pe
 /// Discrete steps that render the camera at every step (depth, and RGB when `rgb`), and with
 /// a batch of N views rendered N at a time (N agents stepping together). Returns the figures
 /// and which renderer rendered and why.
-fn render_perf(world: &World, starts: &[Env], o: &PerfOptions, rgb: bool) -> Result<(RenderPerf, String), PerfError> {
+fn render_perf(world: &World, starts: &[Env], o: &PerfOptions, sensors: &[String], rgb: bool) -> Result<(RenderPerf, String), PerfError> {
     let cam = setup::camera_params(&o.camera, CameraParams::default().mount_height)?;
     let t = Instant::now();
     let (r, why) = setup::build_renderer(o.camera.renderer, &world.scene)?;
@@ -442,7 +553,7 @@ fn render_perf(world: &World, starts: &[Env], o: &PerfOptions, rgb: bool) -> Res
     }
     let mut out = RenderPerf {
         renderer: r.name().to_string(),
-        sensors: o.sensors.clone(),
+        sensors: sensors.to_vec(),
         resolution: cam.width,
         render_threads: rayon::current_num_threads(),
         sensor_build_s: build_s,
@@ -546,12 +657,12 @@ mod tests {
         assert!(p.floor_height_m.is_finite());
         for (n, x) in [
             ("navigable_area_m2", p.navigable_area_m2),
-            ("map_build_s", p.map_build_s),
-            ("geodesic_queries_per_s", p.geodesic_queries_per_s),
-            ("geodesic_field_build_s", p.geodesic_field_build_s),
-            ("geodesic_pair_queries_per_s", p.geodesic_pair_queries_per_s),
-            ("discrete_steps_per_s", p.discrete_steps_per_s),
-            ("oracle_steps_per_s", p.oracle_steps_per_s),
+            ("map_build_s", p.map_build_s.unwrap()),
+            ("geodesic_queries_per_s", p.geodesic_queries_per_s.unwrap()),
+            ("geodesic_field_build_s", p.geodesic_field_build_s.unwrap()),
+            ("geodesic_pair_queries_per_s", p.geodesic_pair_queries_per_s.unwrap()),
+            ("discrete_steps_per_s", p.discrete_steps_per_s.unwrap()),
+            ("oracle_steps_per_s", p.oracle_steps_per_s.unwrap()),
             ("checksum", p.checksum),
         ] {
             positive(n, x);
@@ -611,6 +722,73 @@ mod tests {
         let p = measure_scene(&PerfOptions { sensors: vec!["depth".into()], camera: o.camera.clone(), ..quick() }).unwrap();
         let k = keys(&p);
         assert!(k.iter().any(|x| x == "depth_steps_per_s") && !k.iter().any(|x| x == "batch" || x == "depth_batch_steps_per_s" || x.starts_with("nav_")), "{k:?}");
+    }
+
+    /// The fields every run has, whatever the groups: the scene's facts.
+    const FACTS: [&str; 7] = ["cell_size_m", "checksum", "floor_height_m", "navigable_area_m2", "scene", "threads", "triangles"];
+
+    /// The figures each group adds to the JSON.
+    fn group_fields(g: PerfGroup) -> &'static [&'static str] {
+        match g {
+            PerfGroup::Geodesic => &["geodesic_field_build_s", "geodesic_pair_queries_per_s", "geodesic_queries_per_s"],
+            PerfGroup::Grid => &["map_build_s"],
+            PerfGroup::Discrete => &["discrete_steps_per_s", "oracle_steps_per_s"],
+            PerfGroup::Physics => &["physics_action_steps_per_s", "physics_mesh_build_s", "physics_real_time_factor", "physics_steps_per_s", "robot"],
+            PerfGroup::Sensors => &["depth_steps_per_s", "render_threads", "renderer", "resolution", "sensor_build_s", "sensor_checksum", "sensors"],
+            PerfGroup::Amcl => &["amcl_beams", "amcl_particles", "amcl_update_ms"],
+        }
+    }
+
+    #[test]
+    fn each_group_alone_gives_exactly_its_figures() {
+        let camera = CameraOptions { renderer: Some(RendererKind::Raster), resolution: 8, ..Default::default() };
+        for g in PerfGroup::ALL {
+            // The procedural house, as `xhab perf procedural:3 --only GROUP` measures it.
+            let p = measure_scene(&PerfOptions { groups: vec![g], camera: camera.clone(), ..quick() }).unwrap();
+            let mut want: Vec<&str> = FACTS.iter().chain(group_fields(g)).copied().collect();
+            want.sort_unstable();
+            assert_eq!(keys(&p), want, "--only {}", g.name());
+            let j = serde_json::to_value(&p).unwrap();
+            for f in group_fields(g) {
+                assert!(!j[f].is_null(), "--only {}: {f} is null", g.name());
+                if let Some(x) = j[f].as_f64() {
+                    assert!(x.is_finite() && x >= 0.0, "--only {}: {f} = {x}", g.name());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn groups_combine_and_an_empty_list_means_the_flags() {
+        let p = measure_scene(&PerfOptions { groups: vec![PerfGroup::Grid, PerfGroup::Geodesic, PerfGroup::Grid], ..quick() }).unwrap();
+        let mut want: Vec<&str> = FACTS.iter().chain(group_fields(PerfGroup::Grid)).chain(group_fields(PerfGroup::Geodesic)).copied().collect();
+        want.sort_unstable();
+        assert_eq!(keys(&p), want);
+        positive("map_build_s", p.map_build_s.unwrap());
+        // `--only sensors` renders depth when no sensor is given; the sensors flag's own
+        // choice is kept otherwise.
+        let o = PerfOptions { groups: vec![PerfGroup::Sensors], ..quick() };
+        assert_eq!(o.rendered_sensors(), ["depth"]);
+        let o = PerfOptions { sensors: vec!["depth".into(), "rgb".into()], ..o };
+        assert_eq!(o.rendered_sensors(), ["depth", "rgb"]);
+        // Without groups, the flags decide the sections, as before `--only` existed.
+        let o = quick();
+        assert!(o.runs(PerfGroup::Grid) && o.runs(PerfGroup::Geodesic) && o.runs(PerfGroup::Discrete));
+        assert!(!o.runs(PerfGroup::Physics) && !o.runs(PerfGroup::Sensors) && !o.runs(PerfGroup::Amcl));
+        assert!(o.rendered_sensors().is_empty());
+        // A flag does not add its section to an explicit group list.
+        let o = PerfOptions { groups: vec![PerfGroup::Grid], measure_physics: true, amcl: true, ..quick() };
+        assert!(!o.runs(PerfGroup::Physics) && !o.runs(PerfGroup::Amcl) && !o.runs(PerfGroup::Discrete));
+    }
+
+    #[test]
+    fn group_names_round_trip() {
+        for g in PerfGroup::ALL {
+            assert_eq!(PerfGroup::from_name(g.name()), Some(g));
+            assert!(PerfGroup::NAMES.contains(&g.name()));
+        }
+        assert_eq!(PerfGroup::NAMES.len(), PerfGroup::ALL.len());
+        assert_eq!(PerfGroup::from_name("gpu"), None);
     }
 
     #[test]

@@ -280,3 +280,102 @@ fn glb_round_trip_keeps_textures_and_texture_coordinates() {
     assert_eq!(back.meshes[0].texture, Some(0));
     assert_eq!((back.meshes[1].texture, back.meshes[1].uvs.len()), (None, 0));
 }
+
+/// Texels per metre of [`far_floor`]'s checkerboard.
+const FLOOR_TEXELS_PER_M: f64 = 50.0;
+
+/// A 256 x 256 checkerboard of 1-texel squares (white at (0, 0)), repeating.
+fn fine_checker() -> Texture {
+    let rgba = (0..256u32).flat_map(|y| (0..256u32).map(move |x| if (x + y) % 2 == 0 { WHITE } else { BLACK })).flatten().collect();
+    Texture { name: "fine checker".into(), width: 256, height: 256, rgba, wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
+}
+
+/// A floor at z = 0, x in [0.5, 40] (m) ahead of the camera, y in [-31, 31], covered with
+/// [`fine_checker`] at [`FLOOR_TEXELS_PER_M`] (u along x, v along y).
+fn far_floor() -> Scene {
+    let corners = [[0.5f32, 31.0], [40.0, 31.0], [40.0, -31.0], [0.5, -31.0]];
+    let mut m = Mesh::new("floor", corners.iter().map(|c| [c[0], c[1], 0.0]).collect(), vec![[0, 1, 2], [0, 2, 3]], [1.0; 4]);
+    let s = (FLOOR_TEXELS_PER_M / 256.0) as f32;
+    m.uvs = corners.iter().map(|c| [c[0] * s, c[1] * s]).collect();
+    m.texture = Some(0);
+    Scene { meshes: vec![m], textures: vec![fine_checker()] }
+}
+
+/// sRGB byte to linear.
+fn decode(b: u8) -> f64 {
+    let c = b as f64 / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// What a renderer without mipmaps shows along the ray `(1, -x, -y)` from 1.25 m above
+/// [`far_floor`]: the texture sampled bilinearly from the image itself at the hit, encoded and
+/// shaded as the renderers do (RGB bytes, all equal here).
+fn bilinear_ray(tex: &Texture, x: f64, y: f64) -> u8 {
+    let t = 1.25 / y;
+    let s = FLOOR_TEXELS_PER_M / 256.0;
+    let lin = xhab_sim::sensors::surface::sample_bilinear(tex, [(t * s) as f32, (-x * t * s) as f32]);
+    let cos = y / (1.0 + x * x + y * y).sqrt();
+    (linear_to_srgb_byte(lin[0]) as f64 * (0.35 + 0.65 * cos) + 0.5) as u8
+}
+
+#[test]
+fn a_distant_fine_checkerboard_floor_is_grey_not_a_moire() {
+    let test = "a_distant_fine_checkerboard_floor_is_grey_not_a_moire";
+    let scene = far_floor();
+    let tex = fine_checker();
+    let cam = CameraParams { max_depth: 30.0, ..Default::default() };
+    let k = cam.intrinsics();
+    // Floor pixels whose centre ray meets the floor within 25 m (so every sub-ray does within
+    // the camera's 30 m), with the distance along the optical axis.
+    let floor: Vec<(usize, usize, f64)> = (0..cam.height)
+        .flat_map(|v| (0..cam.width).map(move |u| (u, v)))
+        .filter_map(|(u, v)| {
+            let y = (v as f64 - k.cy) / k.fy;
+            (y > 0.0 && 1.25 / y < 25.0).then_some((u, v, 1.25 / y))
+        })
+        .collect();
+    // The reference: 8 x 8 sub-rays per pixel, averaged in linear space; and what the
+    // renderers showed before mipmaps: the centre ray alone.
+    let n = 8;
+    let reference: Vec<f64> = floor
+        .iter()
+        .map(|&(u, v, _)| {
+            let mut sum = 0.0;
+            for j in 0..n {
+                for i in 0..n {
+                    let x = (u as f64 - 0.5 + (i as f64 + 0.5) / n as f64 - k.cx) / k.fx;
+                    let y = (v as f64 - 0.5 + (j as f64 + 0.5) / n as f64 - k.cy) / k.fy;
+                    sum += decode(bilinear_ray(&tex, x, y));
+                }
+            }
+            linear_to_srgb_byte((sum / (n * n) as f64) as f32) as f64
+        })
+        .collect();
+    let single: Vec<f64> = floor.iter().map(|&(u, v, _)| bilinear_ray(&tex, (u as f64 - k.cx) / k.fx, (v as f64 - k.cy) / k.fy) as f64).collect();
+    // Mean absolute error (bytes) over the floor, and over its far part (beyond 8 m), where
+    // a pixel spans many texels.
+    let far: Vec<bool> = floor.iter().map(|p| p.2 > 8.0).collect();
+    let errors = |img: &[f64]| {
+        let e: Vec<f64> = img.iter().zip(&reference).map(|(a, b)| (a - b).abs()).collect();
+        let far_e: Vec<f64> = e.iter().zip(&far).filter(|(_, f)| **f).map(|(e, _)| *e).collect();
+        (e.iter().sum::<f64>() / e.len() as f64, far_e.iter().sum::<f64>() / far_e.len() as f64, far_e.iter().cloned().fold(0.0, f64::max))
+    };
+    let (old_mae, old_far, old_max) = errors(&single);
+    eprintln!("{test}: {} floor pixels ({} beyond 8 m); without mipmaps: mean error {old_mae:.2}, far {old_far:.2}, far max {old_max}", floor.len(), far.iter().filter(|f| **f).count());
+    assert!(old_far > 4.0, "the view should alias without mipmaps (far mean error {old_far:.2})");
+    let mut renders = vec![
+        ("raycast", render_rgb(&RayScene::new(&scene).unwrap(), POSE, 0.0, &cam)),
+        ("raster", RasterScene::new(&scene).unwrap().render_rgb(POSE, 0.0, &cam)),
+    ];
+    if let Some(g) = gpu(test, &scene) {
+        renders.push(("wgpu", g.render_rgb(POSE, 0.0, &cam).unwrap()));
+    }
+    for (name, img) in renders {
+        let got: Vec<f64> = floor.iter().map(|&(u, v, _)| img[(v * cam.width + u) * 3] as f64).collect();
+        let (mae, far_mae, far_max) = errors(&got);
+        eprintln!("{test}: {name}: mean error {mae:.2}, far {far_mae:.2}, far max {far_max}");
+        assert!(mae < 0.5 * old_mae, "{name}: mean error {mae:.2} vs {old_mae:.2} without mipmaps");
+        // No moire: far away the floor is an even grey, close to the reference everywhere.
+        assert!(far_mae < 0.25 * old_far && far_max < 0.5 * old_max, "{name}: far mean error {far_mae:.2}, max {far_max} (without mipmaps {old_far:.2}, {old_max})");
+    }
+}

@@ -797,10 +797,32 @@ pub struct PerfArgs {
     /// a fixed episode set: `nav_real_time_factor`.
     #[arg(long)]
     pub nav: bool,
+    /// Run only these groups of figures (repeat the flag or give a comma list), whatever
+    /// --physics, --amcl and --sensors say (`sensors` renders depth unless --sensors says
+    /// otherwise); the other groups' figures are absent from the JSON. --nav is no group.
+    #[arg(long, value_name = "GROUP", value_delimiter = ',')]
+    pub only: Vec<PerfGroupArg>,
     #[command(flatten)]
     pub camera: CameraOpts,
     #[command(flatten)]
     pub scene_opts: SceneOpts,
+}
+
+/// A group of `xhab perf` figures, for `--only`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PerfGroupArg {
+    /// Goal-field builds, queries against them and cold point-to-point queries.
+    Geodesic,
+    /// The map build: floors, navigation grid and corner graph (`map_build_s`).
+    Grid,
+    /// Discrete steps without rendering, random and oracle.
+    Discrete,
+    /// Raw physics steps and discrete actions under physics.
+    Physics,
+    /// Discrete steps rendering the camera at every step.
+    Sensors,
+    /// AMCL updates (5,000 particles, 60 beams).
+    Amcl,
 }
 
 /// `xhab scene ...`.

@@ -51,7 +51,7 @@ pub fn render_rgb(scene: &RayScene, base: Pose2, floor_z: f64, cam: &CameraParam
         for u in 0..cam.width {
             let x = (u as f64 - k.cx) / k.fx;
             let dir = [c + x * s, s - x * c, -y];
-            if let Some((_, rgb, cos)) = scene.cast_color(origin, dir, cam.max_depth) {
+            if let Some((_, rgb, cos)) = scene.cast_color(origin, dir, cam.max_depth, 1.0 / k.fx) {
                 row[u * 3..u * 3 + 3].copy_from_slice(&shade(rgb, cos));
             }
         }

@@ -20,10 +20,14 @@
 //! framebuffer pixel `(u, v)`. No face culling.
 //!
 //! Colour follows [`super::surface`] exactly: untextured triangles carry their sRGB colour;
-//! textured ones their linear factor, and the fragment shader samples the texture by hand
-//! (bilinear, wrap modes, the same sRGB tables) from one storage buffer holding every texture's
-//! texels (RGBA8, one `u32` each) with a table of offsets, sizes and wrap modes, so the GPU's
-//! image agrees with the CPU renderers' to within rounding. Textures larger in all than the
+//! textured ones their linear factor and their texels per metre ([`super::mipmap::texel_scale`]),
+//! and the fragment shader samples the texture by hand (over the mip pyramid with
+//! the level of detail of [`super::mipmap`], from the ray's length, the pixel's angular size
+//! `1 / fx` carried in the view's `origin.w` and the cosine of incidence; bilinear within a
+//! level, wrap modes, the same sRGB tables) from one storage buffer holding every level of
+//! every texture (RGBA8, one `u32` per texel, the CPU's pyramid bytes) with a table of one
+//! entry per level (offset, size, wrap modes and the texture's level count), so the GPU's image
+//! agrees with the CPU renderers' to within rounding. Pyramids larger in all than the
 //! adapter's `max_storage_buffer_binding_size` are refused ([`GpuError::Textures`]).
 //!
 //! Without a GPU, Mesa's llvmpipe Vulkan driver (Debian package `mesa-vulkan-drivers`)
@@ -31,6 +35,7 @@
 //! between calls; they are reallocated only for a new resolution or batch size.
 
 use super::camera::CameraParams;
+use super::mipmap::texel_scale;
 use super::surface::{srgb_table, Surfaces};
 use crate::scene::{Scene, Wrap};
 use std::collections::HashMap;
@@ -100,7 +105,7 @@ struct ViewUniform {
     clip: [f32; 16],
     /// World point (x, y, z, 1) to optical-axis depth (m).
     zrow: [f32; 4],
-    /// Camera centre (world, m), w unused.
+    /// Camera centre (world, m); w: a pixel's angular size `1 / fx` (rad).
     origin: [f32; 4],
 }
 
@@ -135,7 +140,7 @@ impl ViewUniform {
                 clip[col * 4 + r] = *v as f32;
             }
         }
-        ViewUniform { clip, zrow: rz.map(|v| v as f32), origin: [o[0] as f32, o[1] as f32, o[2] as f32, 1.0] }
+        ViewUniform { clip, zrow: rz.map(|v| v as f32), origin: [o[0] as f32, o[1] as f32, o[2] as f32, (1.0 / k.fx) as f32] }
     }
 
     fn write(&self, out: &mut Vec<u8>) {
@@ -200,8 +205,9 @@ struct View {
 };
 @group(0) @binding(0) var<storage, read> views: array<View>;
 
-// A texture: first texel in `texels`, size (texels), wrap modes s | t << 8 (0 repeat, 1 clamp
-// to edge, 2 mirrored repeat).
+// One mip level of a texture: first texel in `texels`, size (texels), wrap modes s | t << 8
+// (0 repeat, 1 clamp to edge, 2 mirrored repeat) | the texture's level count << 16. A
+// texture's levels are consecutive entries, finest first.
 struct TexInfo {
     offset: u32,
     width: u32,
@@ -240,11 +246,13 @@ struct RgbOut {
     @location(2) @interpolate(flat) c: vec3<f32>,
     @location(3) uv: vec2<f32>,
     @location(4) @interpolate(flat) tex: u32,
+    @location(5) @interpolate(flat) scale: f32,
+    @location(6) @interpolate(flat) pix: f32,
 };
 
 @vertex
 fn vs_rgb(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2) c: vec3<f32>,
-          @location(3) uv: vec2<f32>, @location(4) tex: u32,
+          @location(3) uv: vec2<f32>, @location(4) tex: u32, @location(5) scale: f32,
           @builtin(instance_index) i: u32) -> RgbOut {
     let v = views[i];
     var out: RgbOut;
@@ -254,6 +262,8 @@ fn vs_rgb(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2) c: 
     out.c = c;
     out.uv = uv;
     out.tex = tex;
+    out.scale = scale;
+    out.pix = v.origin.w;
     return out;
 }
 
@@ -298,7 +308,7 @@ fn sample_tex(t: TexInfo, uv: vec2<f32>) -> vec3<f32> {
     let w = i32(t.width);
     let h = i32(t.height);
     let ws = t.wrap & 0xffu;
-    let wt = t.wrap >> 8u;
+    let wt = (t.wrap >> 8u) & 0xffu;
     let xa = wrap_index(i, w, ws);
     let xb = wrap_index(i + 1, w, ws);
     let ya = wrap_index(j, h, wt);
@@ -320,14 +330,39 @@ fn srgb_byte(x: f32) -> f32 {
     return f32(c);
 }
 
+// Linear RGB of the texture whose level 0 is entry `first` at uv for level of detail `lod`
+// in [0, levels - 1]: level floor(lod), the next, or both blended in a band of width
+// mipmap::BLEND (0.25) around each half level (as mipmap::MipChain::sample).
+fn sample_mip(first: u32, uv: vec2<f32>, lod: f32) -> vec3<f32> {
+    let levels = textures[first].wrap >> 16u;
+    let l = min(u32(lod), levels - 1u);
+    let w = clamp((lod - f32(l) - (1.0 - 0.25) * 0.5) / 0.25, 0.0, 1.0);
+    if l + 1u < levels && w >= 1.0 {
+        return sample_tex(textures[first + l + 1u], uv);
+    }
+    if l + 1u < levels && w > 0.0 {
+        let a = sample_tex(textures[first + l], uv);
+        let b = sample_tex(textures[first + l + 1u], uv);
+        return a * (1.0 - w) + b * w;
+    }
+    return sample_tex(textures[first + l], uv);
+}
+
 @fragment
 fn fs_rgb(in: RgbOut) -> @location(0) vec4<f32> {
     var c = in.c;
+    let cos_i = abs(dot(in.n, normalize(in.ray)));
     if in.tex != 0xffffffffu {
-        let lin = sample_tex(textures[in.tex], in.uv) * in.c;
+        // Level of detail (as mipmap::footprint and mipmap::level_of_detail).
+        let texels = length(in.ray) * in.pix / max(cos_i, 0.001) * in.scale;
+        var lod = 0.0;
+        if texels > 1.0 {
+            let levels = textures[in.tex].wrap >> 16u;
+            lod = min(log2(texels), f32(levels - 1u));
+        }
+        let lin = sample_mip(in.tex, in.uv, lod) * in.c;
         c = vec3<f32>(srgb_byte(lin.x), srgb_byte(lin.y), srgb_byte(lin.z));
     }
-    let cos_i = abs(dot(in.n, normalize(in.ray)));
     return vec4<f32>(round(c * (0.35 + 0.65 * cos_i)) / 255.0, 1.0);
 }
 "#;
@@ -352,13 +387,16 @@ impl GpuRenderer {
         // Triangles: corner indices into `positions` and their colour attributes.
         let mut tris: Vec<([u32; 3], TriAttr)> = Vec::new();
         let surfaces = Surfaces::new(scene);
+        let (texel_bytes, tex_table, first_level) = texture_tables(&surfaces);
         for (k, m) in scene.meshes.iter().enumerate() {
             let mat = &surfaces.materials[k];
-            // Textured: the linear factor; else the sRGB bytes (0..255).
-            let (color, tex) = match mat.texture {
-                Some(t) => (mat.factor, t),
+            // Textured: the linear factor and the table entry of the texture's level 0; else
+            // the sRGB bytes (0..255).
+            let (color, tex) = match mat.texture.and_then(|t| first_level.get(t as usize)) {
+                Some(&first) => (mat.factor, first),
                 None => (mat.flat.map(|b| b as f32), u32::MAX),
             };
+            let size = mat.texture.and_then(|t| surfaces.textures.get(t as usize)).map_or(0, |c| c.levels[0].width.max(c.levels[0].height));
             let base = positions.len() as u32;
             positions.extend_from_slice(&m.positions);
             for t in &m.indices {
@@ -370,8 +408,9 @@ impl GpuRenderer {
                 let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
                 let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
                 let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
-                let uv = if tex == u32::MAX { [[0.0; 2]; 3] } else { t.map(|i| m.uvs[i as usize]) };
-                let attr = TriAttr { n: [(n[0] / l) as f32, (n[1] / l) as f32, (n[2] / l) as f32], color, uv, tex };
+                let uv = if tex == u32::MAX { [[0.0; 2]; 3] } else { t.map(|i| m.uvs.get(i as usize).copied().unwrap_or_default()) };
+                let scale = if tex == u32::MAX { 0.0 } else { texel_scale(&t.map(|i| m.positions[i as usize]), &uv, size) };
+                let attr = TriAttr { n: [(n[0] / l) as f32, (n[1] / l) as f32, (n[2] / l) as f32], color, uv, tex, scale };
                 tris.push((t.map(|i| i + base), attr));
             }
         }
@@ -387,7 +426,6 @@ impl GpuRenderer {
                 a.write_vertex(corner, &mut flat_attr);
             }
         }
-        let (texel_bytes, tex_table) = texture_tables(&surfaces);
 
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::VULKAN,
@@ -463,7 +501,7 @@ impl GpuRenderer {
         let attr_layout = wgpu::VertexBufferLayout {
             array_stride: TriAttr::VERTEX_BYTES,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![1 => Float32x3, 2 => Float32x3, 3 => Float32x2, 4 => Uint32],
+            attributes: &wgpu::vertex_attr_array![1 => Float32x3, 2 => Float32x3, 3 => Float32x2, 4 => Uint32, 5 => Float32],
         };
         let pipeline = |label: &str, vs: &str, fs: &str, buffers: &[Option<wgpu::VertexBufferLayout>], format| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -879,38 +917,48 @@ struct TriAttr {
     color: [f32; 3],
     /// Texture coordinates of the corners.
     uv: [[f32; 2]; 3],
-    /// Texture index, `u32::MAX` when untextured.
+    /// Table entry of the texture's level 0, `u32::MAX` when untextured.
     tex: u32,
+    /// Level-0 texels per metre ([`texel_scale`]; 0 when untextured).
+    scale: f32,
 }
 
 impl TriAttr {
-    /// Bytes of one vertex: normal, colour, texture coordinates (f32) and texture (u32).
-    const VERTEX_BYTES: u64 = 36;
+    /// Bytes of one vertex: normal, colour, texture coordinates (f32), texture (u32) and
+    /// texels per metre (f32).
+    const VERTEX_BYTES: u64 = 40;
 
     fn write_vertex(&self, corner: usize, out: &mut Vec<u8>) {
         for v in self.n.iter().chain(&self.color).chain(&self.uv[corner]) {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out.extend_from_slice(&self.tex.to_le_bytes());
+        out.extend_from_slice(&self.scale.to_le_bytes());
     }
 }
 
-/// Every texture's texels back to back (RGBA8 bytes, 4 per texel: one `u32` each in the
-/// shader) and the table the shader reads: per texture its first texel, width, height and
-/// wrap modes (`s | t << 8`). Never empty (a storage binding must have a size).
-fn texture_tables(surfaces: &Surfaces) -> (Vec<u8>, Vec<u8>) {
+/// Every level of every texture's pyramid back to back (RGBA8 bytes, 4 per texel: one `u32`
+/// each in the shader), the table the shader reads (one entry per level: its first texel,
+/// width, height, and wrap modes `s | t << 8 | levels << 16`) and each texture's first entry.
+/// The buffers are never empty (a storage binding must have a size).
+fn texture_tables(surfaces: &Surfaces) -> (Vec<u8>, Vec<u8>, Vec<u32>) {
     let code = |w: Wrap| match w {
         Wrap::Repeat => 0u32,
         Wrap::ClampToEdge => 1,
         Wrap::MirroredRepeat => 2,
     };
-    let mut texels = Vec::with_capacity(surfaces.textures.iter().map(|t| t.rgba.len()).sum());
+    let mut texels = Vec::with_capacity(surfaces.textures.iter().flat_map(|c| &c.levels).map(|t| t.rgba.len()).sum());
     let mut table = Vec::new();
-    for t in &surfaces.textures {
-        let offset = (texels.len() / 4) as u32;
-        texels.extend_from_slice(&t.rgba);
-        for v in [offset, t.width, t.height, code(t.wrap_s) | code(t.wrap_t) << 8] {
-            table.extend_from_slice(&v.to_le_bytes());
+    let mut first = Vec::with_capacity(surfaces.textures.len());
+    for c in &surfaces.textures {
+        first.push((table.len() / 16) as u32);
+        let levels = (c.levels.len() as u32).min(255);
+        for t in c.levels.iter().take(levels as usize) {
+            let offset = (texels.len() / 4) as u32;
+            texels.extend_from_slice(&t.rgba);
+            for v in [offset, t.width, t.height, code(t.wrap_s) | code(t.wrap_t) << 8 | levels << 16] {
+                table.extend_from_slice(&v.to_le_bytes());
+            }
         }
     }
     if texels.is_empty() {
@@ -919,5 +967,5 @@ fn texture_tables(surfaces: &Surfaces) -> (Vec<u8>, Vec<u8>) {
     if table.is_empty() {
         table.resize(16, 0);
     }
-    (texels, table)
+    (texels, table, first)
 }

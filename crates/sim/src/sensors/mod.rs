@@ -5,6 +5,7 @@ pub mod camera_rig;
 pub mod depth_noise;
 pub mod gpu;
 pub mod lidar;
+pub mod mipmap;
 pub mod raster;
 pub mod raycast;
 pub mod renderer;

@@ -1,5 +1,6 @@
 //! The scene as a parry3d triangle mesh with its BVH, for ray casting (CPU reference path).
 
+use super::mipmap::footprint;
 use super::surface::{barycentric, SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use parry3d::math::Vector;
@@ -46,26 +47,28 @@ impl RayScene {
     }
 
     /// Like [`RayScene::cast`], with the base colour at the hit (sRGB bytes: the material's
-    /// factor times its texture, see [`super::surface`]) and the cosine between the ray and the
+    /// factor times its texture, see [`super::surface`], the texture's level of detail from a
+    /// pixel of angular size `pixel_angle` (rad)) and the cosine between the ray and the
     /// surface normal (for shading).
-    pub fn cast_color(&self, origin: [f64; 3], dir: [f64; 3], max_t: f64) -> Option<(f64, [u8; 3], f64)> {
+    pub fn cast_color(&self, origin: [f64; 3], dir: [f64; 3], max_t: f64, pixel_angle: f64) -> Option<(f64, [u8; 3], f64)> {
         let ray = Ray::new(
             Vector::new(origin[0] as f32, origin[1] as f32, origin[2] as f32),
             Vector::new(dir[0] as f32, dir[1] as f32, dir[2] as f32),
         );
         let hit = self.mesh.cast_local_ray_and_get_normal(&ray, max_t as f32, false)?;
+        let l = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt().max(1e-12);
+        let cos = ((hit.normal.x as f64 * dir[0] + hit.normal.y as f64 * dir[1] + hit.normal.z as f64 * dir[2]) / l).abs();
         // The hit's triangle is its sub-shape (its feature is only the triangle's side).
         let t = hit.subshape as usize;
         let color = match self.surf.get(t) {
             Some(st) if t < self.mesh.indices().len() => {
                 let tri = self.mesh.triangle(t as u32);
                 let v = [tri.a, tri.b, tri.c].map(|p| [p.x, p.y, p.z]);
-                self.surfaces.color(st, || barycentric(&v, origin, dir))
+                let fp = footprint((hit.time_of_impact as f64 * l) as f32, pixel_angle as f32, cos as f32);
+                self.surfaces.color(st, || barycentric(&v, origin, dir), fp)
             }
             _ => [160, 160, 160],
         };
-        let l = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt().max(1e-12);
-        let cos = ((hit.normal.x as f64 * dir[0] + hit.normal.y as f64 * dir[1] + hit.normal.z as f64 * dir[2]) / l).abs();
         Some((hit.time_of_impact as f64, color, cos))
     }
 }

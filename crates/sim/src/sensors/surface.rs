@@ -1,10 +1,14 @@
 //! The colour of a surface point, one rule for every renderer (the wgpu shader mirrors it).
 //!
 //! A material is glTF's base colour: a linear RGB factor times, when the mesh has a texture,
-//! the texture sampled at the point's texture coordinates. Sampling follows glTF's default
-//! sampler without mipmaps: bilinear between the four nearest texels (centres at half-integer
-//! texel positions), each wrapped by the texture's wrap modes, after decoding the texels from
-//! sRGB to linear (a 256-entry table, shared with the GPU). The product is encoded back to
+//! the texture sampled at the point's texture coordinates. Sampling reads the one or two
+//! levels of the texture's mip pyramid around the level of detail that the pixel's footprint
+//! on the surface gives ([`super::mipmap`], so far textures neither alias nor read scattered
+//! texels); within a level,
+//! bilinear between the four nearest texels (centres at half-integer texel positions), each
+//! wrapped by the texture's wrap modes, after decoding the texels from sRGB to linear (a
+//! 256-entry table, shared with the GPU). Up close (a footprint under one texel) that is
+//! glTF's default bilinear sampler on the image itself. The product is encoded back to
 //! sRGB bytes by where it falls among the 255 linear values half way between consecutive
 //! bytes (also shared with the GPU, so no `pow` differs between them; the shader searches
 //! them in binary, the CPU starts from a table of 4,096 bins, with the same answer). A pixel
@@ -13,6 +17,7 @@
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
 
+use super::mipmap::{level_of_detail, texel_scale, MipChain};
 use super::raster::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
@@ -24,6 +29,8 @@ pub(crate) struct SurfaceTri {
     pub uv: [[f32; 2]; 3],
     /// Index of the material (the mesh) in [`Surfaces`].
     pub material: u32,
+    /// Level-0 texels per metre on the triangle ([`texel_scale`]; 0 when untextured).
+    pub texel_scale: f32,
 }
 
 /// One mesh's material.
@@ -42,8 +49,8 @@ pub(crate) struct Material {
 pub(crate) struct Surfaces {
     /// One per mesh of the scene, in order.
     pub materials: Vec<Material>,
-    /// The scene's textures.
-    pub textures: Vec<Texture>,
+    /// The scene's textures, each with its mip pyramid.
+    pub textures: Vec<MipChain>,
 }
 
 impl Surfaces {
@@ -58,31 +65,36 @@ impl Surfaces {
                 Material { factor, flat: factor.map(linear_to_srgb_byte), texture }
             })
             .collect();
-        Surfaces { materials, textures: scene.textures.clone() }
+        Surfaces { materials, textures: scene.textures.iter().map(MipChain::new).collect() }
     }
 
     /// Every triangle of `scene`, in the order of [`Scene::triangles`], with its surface data.
     pub fn triangles(scene: &Scene) -> Vec<SurfaceTri> {
         let mut out = Vec::with_capacity(scene.triangle_count());
         for (k, m) in scene.meshes.iter().enumerate() {
-            let textured = scene.texture_of(m).is_some();
-            out.extend(m.indices.iter().map(|t| SurfaceTri {
-                uv: if textured { t.map(|i| m.uvs[i as usize]) } else { [[0.0; 2]; 3] },
-                material: k as u32,
+            let size = scene.texture_of(m).map(|t| t.width.max(t.height));
+            out.extend(m.indices.iter().map(|t| {
+                let uv = if size.is_some() { t.map(|i| m.uvs.get(i as usize).copied().unwrap_or_default()) } else { [[0.0; 2]; 3] };
+                let scale = match size {
+                    Some(n) => texel_scale(&t.map(|i| m.positions.get(i as usize).copied().unwrap_or_default()), &uv, n),
+                    None => 0.0,
+                };
+                SurfaceTri { uv, material: k as u32, texel_scale: scale }
             }));
         }
         out
     }
 
     /// The base colour (sRGB bytes) of triangle `t` at the barycentric weights of its corners
-    /// that `bary` gives (called only for textured triangles).
+    /// that `bary` gives (called only for textured triangles), for a pixel whose footprint on
+    /// the surface is `footprint` metres ([`super::mipmap::footprint`]).
     #[inline]
-    pub fn color(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3]) -> [u8; 3] {
+    pub fn color(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> [u8; 3] {
         let Some(m) = self.materials.get(t.material as usize) else { return [160; 3] };
         let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return m.flat };
         let bary = bary();
         let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
-        let s = sample_bilinear(tex, uv);
+        let s = tex.sample(uv, level_of_detail(footprint, t.texel_scale, tex.levels.len()));
         std::array::from_fn(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
     }
 }
@@ -146,7 +158,8 @@ fn encode_by_search(x: f32) -> u8 {
     c as u8
 }
 
-/// The texture's linear RGB at texture coordinates `uv` (bilinear, wrapped; see the module).
+/// The texture's (or a mip level's) linear RGB at texture coordinates `uv` (bilinear,
+/// wrapped; see the module).
 pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     let lut = srgb_table();
     let (w, h) = (t.width as i32, t.height as i32);
@@ -192,6 +205,13 @@ impl TrianglePlane {
         let nn = dot(n, n);
         let oa = [origin[0] - a[0], origin[1] - a[1], origin[2] - a[2]];
         TrianglePlane { n, ln: nn.sqrt().max(1e-300), oa, n_oa: dot(n, oa), m1: cross(e2, n).map(|x| x / nn), m2: cross(n, e1).map(|x| x / nn) }
+    }
+
+    /// How far along the ray the plane is, in units of the ray direction's length, given
+    /// `denom = n . dir` (infinite or NaN for a ray parallel to the plane).
+    #[inline]
+    pub fn distance(&self, denom: f64) -> f64 {
+        (-self.n_oa / denom).abs()
     }
 
     /// Barycentric weights (of corners 0, 1, 2) where the ray along `dir` meets the plane,

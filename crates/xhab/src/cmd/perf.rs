@@ -1,11 +1,11 @@
 //! `xhab perf`: speed figures of one scene, as JSON. Parses the flags into the library's
 //! [`PerfOptions`], calls [`measure_scene`], prints.
 
-use crate::cli::PerfArgs;
+use crate::cli::{PerfArgs, PerfGroupArg};
 use crate::scene_arg::scene_options;
 use anyhow::Result;
 use std::process::ExitCode;
-use xhab_bridge::scene_perf::{measure_scene, PerfOptions};
+use xhab_bridge::scene_perf::{measure_scene, PerfGroup, PerfOptions};
 
 pub fn run(a: &PerfArgs) -> Result<ExitCode> {
     let o = PerfOptions {
@@ -19,6 +19,7 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         batch: a.camera.batch,
         amcl: a.amcl,
         nav: a.nav,
+        groups: a.only.iter().map(|&g| perf_group(g)).collect(),
     };
     let perf = measure_scene(&o)?;
     if let Some(note) = &perf.renderer_note {
@@ -32,4 +33,16 @@ pub fn run(a: &PerfArgs) -> Result<ExitCode> {
         println!("{}", serde_json::to_string_pretty(&j)?);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's group of a `--only` value.
+fn perf_group(g: PerfGroupArg) -> PerfGroup {
+    match g {
+        PerfGroupArg::Geodesic => PerfGroup::Geodesic,
+        PerfGroupArg::Grid => PerfGroup::Grid,
+        PerfGroupArg::Discrete => PerfGroup::Discrete,
+        PerfGroupArg::Physics => PerfGroup::Physics,
+        PerfGroupArg::Sensors => PerfGroup::Sensors,
+        PerfGroupArg::Amcl => PerfGroup::Amcl,
+    }
 }

@@ -6,6 +6,7 @@
 use super::depth::depth_of;
 use super::{span, RasterScene, Setup, Target, View, MERGE_ROWS};
 use crate::sensors::camera::CameraParams;
+use crate::sensors::mipmap::footprint;
 use crate::sensors::surface::{dot, shade, TrianglePlane};
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
@@ -72,6 +73,7 @@ impl RasterScene {
         let k = cam.intrinsics();
         let (s, c) = base.yaw.sin_cos();
         let origin = [base.x, base.y, floor_z + cam.mount_height];
+        let pixel_angle = (1.0 / k.fx) as f32;
         let mut data = vec![0u8; cam.width * cam.height * 3];
         data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
@@ -89,8 +91,10 @@ impl RasterScene {
                     _ => &tri.insert((id, TrianglePlane::new(&self.tris[id as usize].v, origin))).1,
                 };
                 let denom = dot(t.n, dir);
-                let cos = (denom / (t.ln * dot(dir, dir).sqrt())).abs();
-                let color = self.surfaces.color(&self.surf[id as usize], || t.barycentric(dir, denom));
+                let len = dot(dir, dir).sqrt();
+                let cos = (denom / (t.ln * len)).abs();
+                let fp = footprint((t.distance(denom) * len) as f32, pixel_angle, cos as f32);
+                let color = self.surfaces.color(&self.surf[id as usize], || t.barycentric(dir, denom), fp);
                 row[u * 3..u * 3 + 3].copy_from_slice(&shade(color, cos));
             }
         });
