@@ -99,30 +99,11 @@ pub fn generate_episodes(
                 continue;
             }
             let d = field.distance(grid, start.xy());
-            if !d.is_finite() || d < params.closest_dist_limit || d > params.furthest_dist_limit {
+            let euclid = start.xy().dist(goal.xy());
+            if !keeps(d, euclid, params, &mut rng) {
                 continue;
             }
-            let euclid = start.xy().dist(goal.xy()).max(1e-9);
-            let ratio = d / euclid;
-            if ratio < params.geodesic_to_euclid_min_ratio {
-                let keep = 20.0 * (ratio - 0.98).powi(2);
-                if rng.gen::<f64>() > keep {
-                    continue;
-                }
-            }
-            // Habitat draws the start rotation as an angle about the up axis; facing Habitat's
-            // -z is our yaw pi/2.
-            let angle = rng.gen::<f64>() * std::f64::consts::TAU;
-            let id = episodes.len();
-            episodes.push(Episode {
-                episode_id: id.to_string(),
-                scene_id: scene_id.to_string(),
-                start_position: start,
-                start_yaw: xhab_types::normalize_angle(angle + std::f64::consts::FRAC_PI_2),
-                goals: vec![Goal { position: goal, radius: params.goal_radius }],
-                geodesic_distance: Some(d),
-                info: serde_json::json!({ "geodesic_distance": d }),
-            });
+            episodes.push(episode(episodes.len(), scene_id, start, goal, d, params, &mut rng));
             break;
         }
     }
@@ -180,30 +161,41 @@ pub fn generate_cross_storey_episodes(
             }
             let Some(start) = grids[sk].sample_navigable_point(&start_cells[sk], &mut rng) else { continue };
             let d = crate::storey_path::distance(world, start, goal);
-            if !d.is_finite() || d < params.closest_dist_limit || d > params.furthest_dist_limit {
+            let euclid = ((start.x - goal.x).powi(2) + (start.y - goal.y).powi(2) + (start.z - goal.z).powi(2)).sqrt();
+            if !keeps(d, euclid, params, &mut rng) {
                 continue;
             }
-            let euclid = ((start.x - goal.x).powi(2) + (start.y - goal.y).powi(2) + (start.z - goal.z).powi(2)).sqrt().max(1e-9);
-            let ratio = d / euclid;
-            if ratio < params.geodesic_to_euclid_min_ratio {
-                let keep = 20.0 * (ratio - 0.98).powi(2);
-                if rng.gen::<f64>() > keep {
-                    continue;
-                }
-            }
-            let angle = rng.gen::<f64>() * std::f64::consts::TAU;
-            let id = episodes.len();
-            episodes.push(Episode {
-                episode_id: id.to_string(),
-                scene_id: scene_id.to_string(),
-                start_position: start,
-                start_yaw: xhab_types::normalize_angle(angle + std::f64::consts::FRAC_PI_2),
-                goals: vec![Goal { position: goal, radius: params.goal_radius }],
-                geodesic_distance: Some(d),
-                info: serde_json::json!({ "geodesic_distance": d }),
-            });
+            episodes.push(episode(episodes.len(), scene_id, start, goal, d, params, &mut rng));
             break;
         }
     }
     Ok(Dataset { episodes })
+}
+
+/// Habitat's rules on a candidate pair with geodesic `d` and straight-line distance `euclid`
+/// (m): `d` within the distance limits, and a pair whose ratio is below
+/// `geodesic_to_euclid_min_ratio` kept only with probability 20 (ratio - 0.98)^2 (drawn from
+/// `rng` only then).
+fn keeps(d: f64, euclid: f64, params: &GeneratorParams, rng: &mut ChaCha8Rng) -> bool {
+    if !d.is_finite() || d < params.closest_dist_limit || d > params.furthest_dist_limit {
+        return false;
+    }
+    let ratio = d / euclid.max(1e-9);
+    ratio >= params.geodesic_to_euclid_min_ratio || rng.gen::<f64>() <= 20.0 * (ratio - 0.98).powi(2)
+}
+
+/// Episode number `id` from `start` to `goal` with geodesic `d` (m); the start heading is drawn
+/// from `rng` as Habitat draws it (an angle about the up axis; facing Habitat's -z is our yaw
+/// pi/2).
+fn episode(id: usize, scene_id: &str, start: xhab_types::Point3, goal: xhab_types::Point3, d: f64, params: &GeneratorParams, rng: &mut ChaCha8Rng) -> Episode {
+    let angle = rng.gen::<f64>() * std::f64::consts::TAU;
+    Episode {
+        episode_id: id.to_string(),
+        scene_id: scene_id.to_string(),
+        start_position: start,
+        start_yaw: xhab_types::normalize_angle(angle + std::f64::consts::FRAC_PI_2),
+        goals: vec![Goal { position: goal, radius: params.goal_radius }],
+        geodesic_distance: Some(d),
+        info: serde_json::json!({ "geodesic_distance": d }),
+    }
 }
