@@ -149,9 +149,14 @@ fn episode_set(scene: &SceneSpec, dir: &Path) -> Result<(PathBuf, String, usize)
         let ds = setup::read_episodes(&path).map_err(setup_err)?;
         return Ok((path, label, ds.episodes.len()));
     }
-    let opts = setup::SceneOptions { keep_ceilings: scene.keep_ceilings, ..Default::default() };
+    let opts = setup::SceneOptions { keep_ceilings: scene.keep_ceilings, storeys: scene.storeys, ..Default::default() };
     let world = setup::load_world(&scene.scene, &opts).map_err(setup_err)?;
-    let ds = setup::generate(&world, &scene.scene, "auto", g.count, g.seed, &scene.scene).map_err(setup_err)?;
+    let ds = if g.cross_floor {
+        setup::generate_cross_floor(&world, &scene.scene, g.count, g.seed, &scene.scene)
+    } else {
+        setup::generate(&world, &scene.scene, "auto", g.count, g.seed, &scene.scene)
+    }
+    .map_err(setup_err)?;
     let write_err = |source| PlanError::Write { path: path.clone(), source };
     std::fs::create_dir_all(path.parent().unwrap_or(dir)).map_err(write_err)?;
     // Written beside and renamed: a reader never sees half a file.
@@ -169,6 +174,7 @@ pub fn bench_options(spec: &ExperimentSpec, run: &RunPlan, first: usize, end: us
     let c = &spec.configurations[run.configuration];
     let mut env = EnvOptions::new(scene.scene.clone());
     env.scene_options.keep_ceilings = scene.keep_ceilings;
+    env.scene_options.storeys = scene.storeys;
     env.physics = c.physics.then(|| PhysicsOptions { robot: agent.robot.clone(), ..Default::default() });
     env.task = spec.task.clone();
     let mut o = BenchOptions::new(scene.scene.clone(), run.episodes_file.clone());
@@ -245,6 +251,23 @@ mod tests {
         assert!(matches!(o.transport, Transport::Ros) && o.env.physics.is_some());
         assert_eq!(o.episode_indices, Some(vec![1, 2]));
         assert_eq!(o.seed, 7);
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn a_study_on_a_two_storey_house_generates_cross_floor_episodes_and_runs_them_there() {
+        let dir = std::env::temp_dir().join(format!("xhab-plan-storeys-{}", std::process::id()));
+        let spec = ExperimentSpec::parse(
+            "name: s\nscenes: [{scene: 'procedural:1', storeys: 2, generate: {count: 3, seed: 4, cross_floor: true}}]\nagents: [{agent: oracle}]\n",
+            Path::new("s.yaml"),
+        )
+        .unwrap();
+        let p = plan(&spec, &dir).unwrap();
+        let ds = xhab_sim::episode::read_dataset(&dir.join(&p.runs[0].episodes_label)).unwrap();
+        assert_eq!(ds.episodes.len(), 3);
+        assert!(ds.episodes.iter().all(|e| (e.start_position.z - e.goals[0].position.z).abs() > 2.0));
+        let o = bench_options(&spec, &p.runs[0], 0, 3).unwrap();
+        assert_eq!(o.env.scene_options.storeys, 2);
         std::fs::remove_dir_all(&dir).ok();
     }
 

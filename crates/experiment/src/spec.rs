@@ -55,6 +55,13 @@ pub struct SceneSpec {
     /// Keep meshes named "ceiling" (default false: dropped, as `xhab bench` does).
     #[serde(default)]
     pub keep_ceilings: bool,
+    /// Storeys of the procedural house (`xhab --storeys`; default 1).
+    #[serde(default = "one_storey")]
+    pub storeys: usize,
+}
+
+fn one_storey() -> usize {
+    1
 }
 
 /// Episodes generated as `xhab episodes` does.
@@ -66,6 +73,10 @@ pub struct GenerateSpec {
     /// The generator's seed (default 0).
     #[serde(default)]
     pub seed: u64,
+    /// Pairs on different storeys joined by stairs, as `xhab episodes --cross-floor`
+    /// (default false: the default floor).
+    #[serde(default)]
+    pub cross_floor: bool,
 }
 
 /// Which agent, and how it is set up.
