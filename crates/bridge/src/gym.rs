@@ -24,7 +24,6 @@ pub use xhab_sim::env::EnvSnapshot;
 use xhab_sim::env::Observation;
 use xhab_sim::episode::{Dataset, Episode};
 use xhab_sim::metrics::EpisodeMetrics;
-use xhab_sim::navgrid::NavGrid;
 use xhab_sim::sensors::CameraFrame;
 use xhab_types::Twist;
 
@@ -194,7 +193,6 @@ pub struct GymStep {
 /// The running episode.
 struct Current {
     env: MadeEnv,
-    grid: Arc<NavGrid>,
     episode_id: String,
     /// The episode's number for seeds: its dataset index, or its generated number.
     index: usize,
@@ -244,13 +242,13 @@ impl PointNav {
             self.cursor = 0;
         }
         self.current = None;
-        let (made, grid, ep_id, index) = match (&*self.source, episode_id) {
+        let (made, ep_id, index) = match (&*self.source, episode_id) {
             (EpisodeSource::Generated { .. }, Some(_)) => return Err(GymError::NoEpisodesFile),
             (EpisodeSource::Dataset { dataset, file }, Some(id)) => {
                 let index = dataset.episodes.iter().position(|e| e.episode_id == id).ok_or_else(|| GymError::UnknownEpisode { id: id.to_string(), file: file.clone() })?;
                 let ep = &dataset.episodes[index];
-                let (made, grid) = make_env(&self.setup.world, ep, index, &self.cfg).map_err(|reason| GymError::InvalidEpisode { id: id.to_string(), reason })?;
-                (made, grid, ep.episode_id.clone(), index)
+                let (made, _) = make_env(&self.setup.world, ep, index, &self.cfg).map_err(|reason| GymError::InvalidEpisode { id: id.to_string(), reason })?;
+                (made, ep.episode_id.clone(), index)
             }
             (EpisodeSource::Dataset { dataset, file }, None) => {
                 let n = dataset.episodes.len();
@@ -261,8 +259,8 @@ impl PointNav {
                     self.cursor += 1;
                     let Some(ep) = dataset.episodes.get(index) else { break };
                     match make_env(&self.setup.world, ep, index, &self.cfg) {
-                        Ok((made, grid)) => {
-                            found = Some((made, grid, ep.episode_id.clone(), index));
+                        Ok((made, _)) => {
+                            found = Some((made, ep.episode_id.clone(), index));
                             break;
                         }
                         Err(reason) => {
@@ -278,11 +276,11 @@ impl PointNav {
                 let mut ds = generate(&self.setup.world, &self.setup.scene, floor, 1, mix(self.cfg.seed ^ mix(index as u64)), &self.setup.scene)?;
                 let mut ep: Episode = ds.episodes.remove(0);
                 ep.episode_id = index.to_string();
-                let (made, grid) = make_env(&self.setup.world, &ep, index, &self.cfg).map_err(|reason| GymError::InvalidEpisode { id: ep.episode_id.clone(), reason })?;
-                (made, grid, ep.episode_id, index)
+                let (made, _) = make_env(&self.setup.world, &ep, index, &self.cfg).map_err(|reason| GymError::InvalidEpisode { id: ep.episode_id.clone(), reason })?;
+                (made, ep.episode_id, index)
             }
         };
-        let mut cur = Current { env: made, grid, episode_id: ep_id, index, prev_distance: 0.0, step: 0, done: false };
+        let mut cur = Current { env: made, episode_id: ep_id, index, prev_distance: 0.0, step: 0, done: false };
         let m = cur.env.as_dyn().metrics();
         cur.prev_distance = m.distance_to_goal;
         let obs = self.observe(&cur)?;
@@ -298,7 +296,7 @@ impl PointNav {
             MadeEnv::Physics(e) => e,
         };
         let frame = match self.cfg.sensors.as_deref() {
-            Some(rig) => Some(capture(rig, env.pose(), cur.grid.floor_z, self.cfg.seed, cur.index, cur.step, &mut RenderStats::default()).map_err(GymError::Render)?),
+            Some(rig) => Some(capture(rig, env.pose(), env.height(), self.cfg.seed, cur.index, cur.step, &mut RenderStats::default()).map_err(GymError::Render)?),
             None => None,
         };
         Ok(GymObservation::new(&env.observe(), frame))

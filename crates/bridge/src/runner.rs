@@ -157,6 +157,13 @@ impl MadeEnv {
     }
 }
 
+/// Why episode `ep` cannot run over `transport` (a ROS interface that knows one storey's
+/// map): a goal on another storey; `None` when all goals are on the start's storey.
+pub(crate) fn across_storeys(ep: &Episode, transport: &str) -> Option<String> {
+    let g = ep.goals.iter().find(|g| (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH)?;
+    Some(format!("goal at height {:.3} m is on another storey: episodes across storeys do not run over {transport} yet", g.position.z))
+}
+
 /// Checks episode `ep` (number `index`) for the run and builds its environment and grid, or
 /// says why it cannot run.
 pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Result<(MadeEnv, Arc<xhab_sim::navgrid::NavGrid>), String> {

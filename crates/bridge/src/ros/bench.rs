@@ -79,6 +79,12 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
             Some(h) => h.await.map_err(|e| RosError::Node(format!("building the first episode: {e}")))?,
             None => make_env(&world, ep, cfg.episode_index(i), cfg),
         };
+        // The agent's side of the ROS interface knows one storey's grid: an episode across
+        // storeys is refused, not run wrong.
+        let made = match crate::runner::across_storeys(ep, "ROS") {
+            Some(reason) => Err(reason),
+            None => made,
+        };
         let o = match made {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((made, grid)) => {

@@ -187,7 +187,12 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let mut outcomes = Vec::with_capacity(ds.episodes.len());
     for (i, ep) in ds.episodes.iter().enumerate() {
         let t_wall = Instant::now();
-        let o = match make_env(&world, ep, cfg.episode_index(i), cfg) {
+        // An external stack is given one storey's map: an episode across storeys is refused.
+        let made = match crate::runner::across_storeys(ep, "an external ROS stack") {
+            Some(reason) => Err(reason),
+            None => make_env(&world, ep, cfg.episode_index(i), cfg),
+        };
+        let o = match made {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
             Ok((MadeEnv::Physics(env), grid)) => {
                 if let Some(c) = clear.as_ref() {
