@@ -197,7 +197,14 @@ impl Env {
     /// Starts `episode` on `grid` (the grid of the episode's floor).
     pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
         let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
-        Ok(Env {
+        Ok(Env::starting(grid, field, config, start, goals, d0, None))
+    }
+
+    /// An episode at its start on `grid` with `field`, nothing yet done.
+    fn starting(grid: Arc<NavGrid>, field: Arc<GoalField>, config: TaskConfig, start: Pose2, goals: Vec<Point2>, d0: f64, route: Option<(Arc<StoreyRoute>, usize)>) -> Env {
+        Env {
+            height: grid.surface_height(start.position()),
+            grid,
             field,
             config,
             start,
@@ -209,10 +216,8 @@ impl Env {
             d0,
             called_stop: false,
             done: false,
-            route: None,
-            height: grid.surface_height(start.position()),
-            grid,
-        })
+            route,
+        }
     }
 
     /// Starts `episode` in `world`, on whichever storeys its start and goals stand
@@ -245,22 +250,7 @@ impl Env {
         if !d0.is_finite() {
             return Err(InvalidEpisode::Unreachable);
         }
-        Ok(Env {
-            height: grid.surface_height(pose.position()),
-            grid,
-            field,
-            config,
-            start: pose,
-            goals,
-            pose,
-            steps: 0,
-            collisions: 0,
-            path_length: 0.0,
-            d0,
-            called_stop: false,
-            done: false,
-            route: Some((Arc::new(route), start)),
-        })
+        Ok(Env::starting(grid, field, config, pose, goals, d0, Some((Arc::new(route), start))))
     }
 }
 

@@ -89,7 +89,25 @@ impl PhysicsEnv {
             return Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)).into());
         }
         let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
-        let robot = RigidRobot::new(scene, profile, start, grid.floor_z, &config.physics)?;
+        let floor_z = grid.floor_z;
+        PhysicsEnv::starting((grid, field), scene, (task, config), profile, (start, floor_z), goals, d0, seed, None)
+    }
+
+    /// An episode at its start: the robot placed at `start` on ground at `z` (m), odometry
+    /// seeded with `seed`, nothing yet done.
+    #[allow(clippy::too_many_arguments)]
+    fn starting(
+        (grid, field): (Arc<NavGrid>, Arc<GoalField>),
+        scene: &PhysicsScene,
+        (task, config): (TaskConfig, PhysicsConfig),
+        profile: &RobotProfile,
+        (start, z): (Pose2, f64),
+        goals: Vec<Point2>,
+        d0: f64,
+        seed: u64,
+        route: Option<(Arc<StoreyRoute>, usize)>,
+    ) -> Result<PhysicsEnv, PhysicsEnvError> {
+        let robot = RigidRobot::new(scene, profile, start, z, &config.physics)?;
         let odom = WheelOdometry::new(start, config.odometry.clone(), seed);
         Ok(PhysicsEnv {
             grid,
@@ -109,7 +127,7 @@ impl PhysicsEnv {
             recent_forward: VecDeque::new(),
             stuck: false,
             stuck_cause: None,
-            route: None,
+            route,
         })
     }
 
@@ -136,30 +154,9 @@ impl PhysicsEnv {
         if !(config.control_period.is_finite() && config.control_period > 0.0) {
             return Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)).into());
         }
-        let start = plan.pose();
-        let robot = RigidRobot::new(scene, profile, start, plan.height(), &config.physics)?;
-        let odom = WheelOdometry::new(start, config.odometry.clone(), seed);
         let goals = episode.goals.iter().map(|g| g.position.xy()).collect();
-        Ok(PhysicsEnv {
-            grid: plan.grid().clone(),
-            field: plan.field().clone(),
-            task,
-            config,
-            robot,
-            odom,
-            start,
-            goals,
-            steps: 0,
-            collisions: 0,
-            path_length: 0.0,
-            d0: plan.start_distance(),
-            called_stop: false,
-            done: false,
-            recent_forward: VecDeque::new(),
-            stuck: false,
-            stuck_cause: None,
-            route: Some((route, storey)),
-        })
+        let parts = (plan.grid().clone(), plan.field().clone());
+        PhysicsEnv::starting(parts, scene, (task, config), profile, (plan.pose(), plan.height()), goals, plan.start_distance(), seed, Some((route, storey)))
     }
 
     /// The robot moved from `before` (planar, and its body at height `z_before`, m): the
