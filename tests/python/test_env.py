@@ -154,3 +154,14 @@ def test_render_rgb_array():
         xhab.PointNavEnv(SCENE, sensors=(), render_mode="rgb_array")
     with pytest.raises(ValueError, match="render_mode"):
         xhab.PointNavEnv(SCENE, render_mode="human")
+
+
+def test_cross_floor_episodes_run_through_the_gym_loop(tmp_path):
+    # The two-storey house: episodes whose goal is upstairs or downstairs, climbed by the oracle.
+    path = tmp_path / "xf.json.gz"
+    ds = xhab.generate_episodes("procedural:1", 4, seed=2, out=path, cross_floor=True, storeys=2)
+    assert all(abs(e["start_position"][1] - e["goals"][0]["position"][1]) > 2.0 for e in ds["episodes"])
+    env = xhab.PointNavEnv("procedural:1", path, sensors=(), storeys=2)
+    for e in ds["episodes"]:
+        *_, info = run_oracle(env, options={"episode_id": e["episode_id"]})
+        assert info["success"] == 1.0 and info["spl"] > 0.9, info

@@ -787,13 +787,14 @@ fn geodesic_distance(py: Python<'_>, scene: &str, a: [f64; 3], b: [f64; 3], opti
 /// Generates episodes with Habitat's rules; writes them to `out` when given; returns the
 /// dataset as Habitat's JSON text.
 #[pyfunction]
-#[pyo3(signature = (scene, count, seed, out, floor, scene_id, options))]
+#[pyo3(signature = (scene, count, seed, out, floor, scene_id, cross_floor, options))]
 #[allow(clippy::too_many_arguments)]
-fn generate_episodes(py: Python<'_>, scene: &str, count: usize, seed: u64, out: Option<PathBuf>, floor: &str, scene_id: Option<String>, options: &Bound<'_, PyDict>) -> PyResult<String> {
+fn generate_episodes(py: Python<'_>, scene: &str, count: usize, seed: u64, out: Option<PathBuf>, floor: &str, scene_id: Option<String>, cross_floor: bool, options: &Bound<'_, PyDict>) -> PyResult<String> {
     let opts = env_options(scene, options)?;
     py.detach(|| -> Result<String, Box<dyn Error + Send + Sync>> {
         let world = setup::load_world(&opts.scene, &opts.scene_options)?;
-        let ds = setup::generate(&world, scene, floor, count, seed, scene_id.as_deref().unwrap_or(scene))?;
+        let id = scene_id.as_deref().unwrap_or(scene);
+        let ds = if cross_floor { setup::generate_cross_floor(&world, scene, count, seed, id)? } else { setup::generate(&world, scene, floor, count, seed, id)? };
         if let Some(p) = &out {
             ensure_parent(p)?;
             xhab_sim::episode::write_dataset(&ds, p).map_err(|e| format!("writing {}: {e}", p.display()))?;

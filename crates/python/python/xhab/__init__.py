@@ -99,12 +99,13 @@ def geodesic_distance(scene, a, b, **kwargs):
     return _xhab.geodesic_distance(str(scene), [float(v) for v in a], [float(v) for v in b], _options(**kwargs))
 
 
-def generate_episodes(scene, count, seed=0, out=None, *, floor="auto", scene_id=None, **kwargs):
+def generate_episodes(scene, count, seed=0, out=None, *, floor="auto", scene_id=None, cross_floor=False, **kwargs):
     """PointNav episodes generated with Habitat's rules (byte-identical for a seed); written
-    to ``out`` (``.json.gz`` or ``.json``) when given. Returns the dataset in Habitat's JSON
-    layout (``{"episodes": [...]}``)."""
+    to ``out`` (``.json.gz`` or ``.json``) when given. With ``cross_floor=True``, pairs on
+    different storeys joined by stairs (``xhab episodes --cross-floor``; ``floor`` does not
+    apply). Returns the dataset in Habitat's JSON layout (``{"episodes": [...]}``)."""
     text = _xhab.generate_episodes(str(scene), int(count), int(seed), None if out is None else _os.fspath(out),
-                                   str(floor), scene_id, _options(**kwargs))
+                                   str(floor), scene_id, bool(cross_floor), _options(**kwargs))
     return _json.loads(text)
 
 
