@@ -47,9 +47,9 @@ impl ShortestPathFollower {
         // Off the navigable region (a body under physics can drift there, over a drop's edge
         // say): head back to the nearest navigable cell first, as Habitat snaps to its navmesh.
         if !env.grid().is_navigable(pose.position()) && self.detour.is_none() {
-            if let Some((i, _)) = env.grid().nearest_cell_where(pose.position(), |j| env.grid().cell_is_navigable(j)) {
-                let c = env.grid().cell_center(i);
-                let bearing = normalize_angle((c.y - pose.y).atan2(c.x - pose.x) - pose.yaw);
+            if let Some((i, _)) = env.grid().nearest_cell_where(pose.position(), |j| env.grid().is_nav_cell(j)) {
+                let c = env.grid().center(i);
+                let bearing = normalize_angle((c[1] - pose.y).atan2(c[0] - pose.x) - pose.yaw);
                 if bearing.abs() > half_turn {
                     return if bearing > 0.0 { Action::TurnLeft } else { Action::TurnRight };
                 }

@@ -50,6 +50,15 @@ pub enum PhysicsEnvError {
     Physics(#[from] PhysicsError),
 }
 
+/// The control period must be a positive number of seconds.
+fn check_control_period(config: &PhysicsConfig) -> Result<(), PhysicsError> {
+    if config.control_period.is_finite() && config.control_period > 0.0 {
+        Ok(())
+    } else {
+        Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)))
+    }
+}
+
 /// One running episode under physics.
 pub struct PhysicsEnv {
     grid: Arc<NavGrid>,
@@ -85,9 +94,7 @@ impl PhysicsEnv {
         config: PhysicsConfig,
         seed: u64,
     ) -> Result<PhysicsEnv, PhysicsEnvError> {
-        if !(config.control_period.is_finite() && config.control_period > 0.0) {
-            return Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)).into());
-        }
+        check_control_period(&config)?;
         let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
         let floor_z = grid.floor_z;
         PhysicsEnv::starting((grid, field), scene, (task, config), profile, (start, floor_z), goals, d0, seed, None)
@@ -151,9 +158,7 @@ impl PhysicsEnv {
         let Some((route, storey)) = plan.route() else {
             return PhysicsEnv::new(plan.grid().clone(), scene, episode, task, profile, config, seed);
         };
-        if !(config.control_period.is_finite() && config.control_period > 0.0) {
-            return Err(PhysicsError::Param(format!("control_period: must be > 0, got {}", config.control_period)).into());
-        }
+        check_control_period(&config)?;
         let goals = episode.goals.iter().map(|g| g.position.xy()).collect();
         let parts = (plan.grid().clone(), plan.field().clone());
         PhysicsEnv::starting(parts, scene, (task, config), profile, (plan.pose(), plan.height()), goals, plan.start_distance(), seed, Some((route, storey)))

@@ -10,6 +10,7 @@ mod clearance;
 mod floors;
 mod slice;
 mod stairs;
+mod storey_band;
 pub(crate) mod raster;
 
 pub use floors::{detect_floors, Floor};
@@ -210,65 +211,10 @@ impl NavGrid {
         let cap = params.radius + 4.0 * res;
         let stairs = stairs::find(scene, params, &spec, floor_z, bounds);
         let (mut clear, mut nearest, no_floor, drops) = if let Some(st) = &stairs {
-            // Each cell's body band stands on its own ground (the floor's band where none).
             ground = st.ground.clone();
-            let band = |i: usize| {
-                let g = if ground[i].is_finite() { ground[i] as f64 } else { floor_z };
-                (g + params.max_climb, g + params.height)
-            };
-            let (gmin, gmax) = ground.iter().filter(|g| g.is_finite()).fold((floor_z, floor_z), |(a, b), &g| (a.min(g as f64), b.max(g as f64)));
-            let (wide_lo, wide_hi) = (gmin + params.max_climb, gmax + params.height);
-            occupied.iter_mut().for_each(|o| *o = false);
-            roof.iter_mut().for_each(|r| *r = (f32::INFINITY, false));
-            let mut banded = Vec::new();
-            for t in scene.triangles() {
-                let t = t.map(|p| p.map(|v| v as f64));
-                let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
-                let zhi = t[0][2].max(t[1][2]).max(t[2][2]);
-                if zhi <= wide_lo && zhi < gmin - params.max_climb {
-                    continue;
-                }
-                let faces_up = raster::normal_z_sign(&t) > 0.0;
-                raster::for_each_cell(&spec, &t, |c, r, lo, hi| {
-                    let i = r * w + c;
-                    let (blo, bhi) = band(i);
-                    if lo >= bhi && (lo as f32) < roof[i].0 {
-                        roof[i] = (lo as f32, faces_up);
-                    }
-                    if hi > blo && lo < bhi {
-                        occupied[i] = true;
-                    }
-                });
-                if zhi > wide_lo && zlo < wide_hi {
-                    clearance::band_segments_sliced(&t, wide_lo, wide_hi, &mut banded);
-                }
-            }
-            fill_enclosed(&mut occupied, &ground, &roof, &spec);
-            banded.sort_by(|a, b| {
-                let k = |s: &(clearance::Seg, [f32; 2])| [s.0[0][0], s.0[0][1], s.0[1][0], s.0[1][1], s.1[0] as f64, s.1[1] as f64];
-                let (ka, kb) = (k(a), k(b));
-                ka.iter().zip(&kb).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal)
-            });
-            banded.dedup();
-            segs = banded.iter().map(|s| s.0).collect();
-            let seg_band: Vec<[f32; 2]> = banded.iter().map(|s| s.1).collect();
-            let (c, near) = clearance::segment_distance_where(&spec, &segs, cap, |k, i| {
-                let (blo, bhi) = band(i);
-                seg_band[k][1] as f64 > blo && (seg_band[k][0] as f64) < bhi
-            });
-            // The foot of a drop of more than a climb: cells lower than a neighbour by that much.
-            let mut drops = Vec::new();
-            for i in 0..n {
-                if ground[i].is_nan() {
-                    continue;
-                }
-                let (cc, rr) = (i % w, i / w);
-                let higher = |j: usize| ground[j].is_finite() && (ground[j] - ground[i]) as f64 > params.max_climb;
-                if (cc > 0 && higher(i - 1)) || (cc + 1 < w && higher(i + 1)) || (rr > 0 && higher(i - w)) || (rr + 1 < h && higher(i + w)) {
-                    drops.push(i);
-                }
-            }
-            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), drops)
+            let banded = storey_band::clearance(scene, params, &spec, floor_z, &ground, &mut occupied, &mut roof, cap);
+            segs = banded.segments;
+            (banded.clear, banded.nearest, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), banded.drops)
         } else {
             fill_enclosed(&mut occupied, &ground, &roof, &spec);
             clearance::dedup_segments(&mut segs);
@@ -288,29 +234,7 @@ impl NavGrid {
                 nearest[i] = u32::MAX;
             }
         }
-        // A drop is an edge for the cells above it (below it, its riser is geometry already):
-        // their distance to the lower cell's near side.
-        let reach = (cap / res).ceil() as isize;
-        for &m in &drops {
-            let (mc, mr) = ((m % w) as isize, (m / w) as isize);
-            for dr in -reach..=reach {
-                for dc in -reach..=reach {
-                    let (c, r) = (mc + dc, mr + dr);
-                    if c < 0 || r < 0 || c >= w as isize || r >= h as isize {
-                        continue;
-                    }
-                    let i = (r * w as isize + c) as usize;
-                    if !(ground[i].is_finite() && (ground[i] - ground[m]) as f64 > params.max_climb) {
-                        continue;
-                    }
-                    let e = ((((dc * dc + dr * dr) as f64).sqrt() - 0.5) * res).max(0.0) as f32;
-                    if e < clear[i] {
-                        clear[i] = e;
-                        nearest[i] = u32::MAX;
-                    }
-                }
-            }
-        }
+        storey_band::apply_drops(&mut clear, &mut nearest, &ground, &drops, &spec, cap, params.max_climb);
         let mut grid = NavGrid {
             params: params.clone(),
             floor_z,
@@ -428,17 +352,6 @@ impl NavGrid {
         !self.stair.is_empty()
     }
 
-    /// Whether cell `i` is navigable (its centre: on an island).
-    pub fn cell_is_navigable(&self, i: usize) -> bool {
-        self.island_of.get(i).is_some_and(|&k| k != u32::MAX)
-    }
-
-    /// Centre of cell `i` (m).
-    pub fn cell_center(&self, i: usize) -> Point2 {
-        let c = self.center(i);
-        Point2::new(c[0], c[1])
-    }
-
     /// Whether cell `i` lies on a flight of stairs.
     pub fn cell_is_stair(&self, i: usize) -> bool {
         self.stair.get(i).copied().unwrap_or(false)
@@ -446,7 +359,7 @@ impl NavGrid {
 
     /// Whether `p` lies on a flight of stairs (m, planar).
     pub fn on_stairs(&self, p: Point2) -> bool {
-        self.cell_of(p).is_some_and(|i| self.stair.get(i).copied().unwrap_or(false))
+        self.cell_of(p).is_some_and(|i| self.cell_is_stair(i))
     }
 
     /// Whether the agent fits at `p` (m, planar) on this floor.
@@ -711,6 +624,12 @@ fn fill_enclosed(occupied: &mut [bool], ground: &[f32], roof: &[(f32, bool)], sp
 
 /// 4-connected components of `mask`: label per cell (`u32::MAX` outside) and size per label.
 fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<usize>) {
+    components_where(mask, w, h, |_, _| true)
+}
+
+/// [`components`] where neighbouring cells `i` and `j` of `mask` are joined only when
+/// `joins(i, j)` (a flight's treads: within a climb of each other).
+pub(crate) fn components_where(mask: &[bool], w: usize, h: usize, joins: impl Fn(usize, usize) -> bool) -> (Vec<u32>, Vec<usize>) {
     let mut labels = vec![u32::MAX; w * h];
     let mut sizes = Vec::new();
     let mut stack = Vec::new();
@@ -726,7 +645,7 @@ fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<usize>) {
             n += 1;
             let (c, r) = (i % w, i / w);
             let mut visit = |j: usize| {
-                if mask[j] && labels[j] == u32::MAX {
+                if mask[j] && labels[j] == u32::MAX && joins(i, j) {
                     labels[j] = k;
                     stack.push(j);
                 }

@@ -191,7 +191,8 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
     }
     // Keep the flights that reach another storey: a component of stair cells whose top is
     // within two climbs of the floor above, or whose bottom is within two of the floor below.
-    let (labels, count) = stair_components(&stair, &ground, w, h, climb);
+    let (labels, sizes) = super::components_where(&stair, w, h, |i, j| (ground[j] - ground[i]).abs() as f64 <= climb);
+    let count = sizes.len();
     let mut reach = vec![false; count];
     for i in 0..n {
         if labels[i] == u32::MAX {
@@ -217,42 +218,4 @@ pub(crate) fn find(scene: &Scene, p: &AgentParams, spec: &GridSpec, floor_z: f64
         }
     }
     any.then_some(StairGround { ground, stair })
-}
-
-/// 4-connected components of stair cells whose surfaces are within a climb of each other.
-fn stair_components(stair: &[bool], ground: &[f32], w: usize, h: usize, climb: f64) -> (Vec<u32>, usize) {
-    let mut labels = vec![u32::MAX; w * h];
-    let mut count = 0;
-    let mut stack = Vec::new();
-    for s in 0..w * h {
-        if !stair[s] || labels[s] != u32::MAX {
-            continue;
-        }
-        labels[s] = count as u32;
-        stack.push(s);
-        while let Some(i) = stack.pop() {
-            let (c, r) = (i % w, i / w);
-            let g = ground[i] as f64;
-            let mut visit = |j: usize| {
-                if stair[j] && labels[j] == u32::MAX && (ground[j] as f64 - g).abs() <= climb {
-                    labels[j] = count as u32;
-                    stack.push(j);
-                }
-            };
-            if c > 0 {
-                visit(i - 1);
-            }
-            if c + 1 < w {
-                visit(i + 1);
-            }
-            if r > 0 {
-                visit(i - w);
-            }
-            if r + 1 < h {
-                visit(i + w);
-            }
-        }
-        count += 1;
-    }
-    (labels, count)
 }
