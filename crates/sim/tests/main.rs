@@ -9,3 +9,4 @@ mod raster;
 mod gpu;
 mod textures;
 mod storeys;
+mod properties;
