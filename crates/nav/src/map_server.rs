@@ -192,7 +192,15 @@ fn read_image(bytes: &[u8], path: &Path) -> Result<Pixels, MapError> {
     if w == 0 || h == 0 || w.saturating_mul(h) > MAX_CELLS {
         return Err(bad(format!("{w} x {h} pixels is empty or larger than {MAX_CELLS}")));
     }
-    let (channels, data) = if has_alpha { (4, img.to_rgba8().into_raw()) } else { (3, img.to_rgb8().into_raw()) };
+    // As SDL_image hands map_server the pixels: grey as one channel, colour as three, and
+    // anything with alpha as four (grey + alpha turned into RGBA).
+    let (channels, data) = if has_alpha {
+        (4, img.to_rgba8().into_raw())
+    } else if img.color().channel_count() == 1 {
+        (1, img.to_luma8().into_raw())
+    } else {
+        (3, img.to_rgb8().into_raw())
+    };
     Ok(Pixels { w, h, channels, has_alpha, data })
 }
 
@@ -274,23 +282,30 @@ fn read_pgm(b: &[u8]) -> Result<Pixels, String> {
     Ok(Pixels { w, h, channels: 1, has_alpha: false, data })
 }
 
-/// map_server's conversion (image_loader.cpp): image row j is grid row h-1-j.
+/// map_server's conversion (image_loader.cpp, noetic): image row j is grid row h-1-j. The
+/// channels are averaged, alpha included in trinary mode only (as map_server does "to preserve
+/// existing behavior"); `negate` inverts the average before any mode, raw included; in scale
+/// mode a pixel whose last byte is 0 is unknown. (A palette PNG is read as its colours, not as
+/// SDL's palette indices.)
 fn to_grid(img: &Pixels, m: &MapMetadata) -> OccupancyGrid {
     let origin = Pose2::new(m.origin[0], m.origin[1], m.origin[2]);
     let mut g = OccupancyGrid::new(img.w, img.h, m.resolution, origin, GRID_UNKNOWN);
-    let avg_channels = if img.has_alpha && m.mode != MapMode::Raw { img.channels - 1 } else { img.channels };
+    let avg_channels = if img.has_alpha && m.mode != MapMode::Trinary { img.channels - 1 } else { img.channels };
     for j in 0..img.h {
         for i in 0..img.w {
             let p = &img.data[(j * img.w + i) * img.channels..(j * img.w + i + 1) * img.channels];
             let sum: f64 = p[..avg_channels].iter().map(|&v| v as f64).sum();
             let mut avg = sum / avg_channels as f64;
-            let alpha = if img.has_alpha { p[img.channels - 1] as f64 } else { 255.0 };
+            // map_server reads "alpha" from the last byte of any pixel of more than one channel:
+            // for RGB that is blue, so a pixel with no blue is unknown in scale mode there too.
+            let alpha = if img.channels > 1 { p[img.channels - 1] as f64 } else { 255.0 };
+            if m.negate {
+                avg = 255.0 - avg;
+            }
             let value: i8 = if m.mode == MapMode::Raw {
-                avg as i64 as i8
+                // map_server stores the average through an unsigned char into int8 data.
+                avg as u8 as i8
             } else {
-                if m.negate {
-                    avg = 255.0 - avg;
-                }
                 let occ = (255.0 - avg) / 255.0;
                 if occ > m.occupied_thresh {
                     100
