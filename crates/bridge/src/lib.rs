@@ -13,6 +13,7 @@
 
 pub mod agents;
 pub mod benchmark;
+mod camera_capture;
 pub mod demo;
 pub mod explore;
 pub mod exploration_run;
@@ -20,9 +21,12 @@ pub mod global_localization;
 pub mod gym;
 pub mod map_picture;
 pub mod nav_agent;
+mod nav_episode;
+pub mod outcome;
 pub mod nav_perf;
 pub mod navigate;
 pub mod report;
+pub mod run_config;
 pub mod runner;
 pub mod scan_source;
 pub mod scene_perf;

@@ -7,135 +7,14 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use std::sync::Arc;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
-use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
-use xhab_sim::robot::{PhysicsScene, RobotProfile};
+use xhab_sim::env::{DiscreteEnv, Env, EnvView};
+use xhab_sim::physics_env::PhysicsEnv;
 use xhab_sim::episode::{Dataset, Episode};
-use xhab_sim::metrics::EpisodeMetrics;
 use xhab_sim::world::World;
-use xhab_sim::sensors::{CameraFrame, CameraRig};
-use xhab_types::Pose2;
 use xhab_nav::navigator::AbortReason;
-
-/// How to run a benchmark.
-#[derive(Debug, Clone)]
-pub struct RunConfig {
-    /// The agent.
-    pub agent: AgentKind,
-    /// The task settings.
-    pub task: TaskConfig,
-    /// Worker threads (1 = sequential).
-    pub threads: usize,
-    /// Keep each episode's trajectory (poses after each step).
-    pub record_trajectories: bool,
-    /// Run under physics (Algorithm 1) instead of teleporting.
-    pub physics: Option<PhysicsSetup>,
-    /// Seed of everything random in a run (odometry noise); episode i uses seed + i.
-    pub seed: u64,
-    /// The native navigation stack's setup, for the `nav` agent (which needs physics).
-    pub nav: Option<crate::nav_agent::NavSetup>,
-    /// The camera whose frames every observation carries (`--sensors`), if any.
-    pub sensors: Option<Arc<CameraRig>>,
-    /// Each episode's index in its file when the dataset is a selection of the file (seeds
-    /// derive from the index, so a slice reproduces those episodes of the whole run);
-    /// `None`: the dataset is the whole file.
-    pub episode_indices: Option<Arc<[usize]>>,
-}
-
-impl RunConfig {
-    /// The index in its file of the dataset's `i`-th episode (its seeds derive from it).
-    pub fn episode_index(&self, i: usize) -> usize {
-        self.episode_indices.as_ref().and_then(|v| v.get(i).copied()).unwrap_or(i)
-    }
-}
-
-/// Frames rendered in an episode and the wall time spent on them.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct RenderStats {
-    pub frames: u64,
-    pub seconds: f64,
-}
-
-/// Renders the frame of step `step` of episode `index` from `base` (timed into `stats`); the
-/// noise seed depends on the run's seed, the episode and the step only.
-pub(crate) fn capture(rig: &CameraRig, base: Pose2, floor_z: f64, seed: u64, index: usize, step: u64, stats: &mut RenderStats) -> Result<CameraFrame, String> {
-    let t = Instant::now();
-    let s = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (index as u64).wrapping_mul(0xbf58_476d_1ce4_e5b9) ^ step;
-    let f = rig.capture(base, floor_z, s).map_err(|e| format!("rendering the camera at step {step}: {e}"))?;
-    stats.frames += 1;
-    stats.seconds += t.elapsed().as_secs_f64();
-    Ok(f)
-}
-
-/// What a physics run needs: the scene's shared rigid mesh, the robot and the settings.
-#[derive(Debug, Clone)]
-pub struct PhysicsSetup {
-    /// The scene as a static trimesh, shared by every episode.
-    pub scene: Arc<PhysicsScene>,
-    /// The robot.
-    pub profile: RobotProfile,
-    /// Control period, physics rate, odometry noise, stuck detection.
-    pub config: PhysicsConfig,
-}
-
-/// The outcome of one episode that ran.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct EpisodeRun {
-    /// The episode's id.
-    pub episode_id: String,
-    /// Its metrics.
-    pub metrics: EpisodeMetrics,
-    /// Wall time of the episode, reset included (s).
-    pub wall_s: f64,
-    /// Poses from the start, one per step (when recorded).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub trajectory: Option<Vec<Pose2>>,
-    /// Simulated time (s), physics runs only.
-    pub sim_s: Option<f64>,
-    /// Whether the robot got stuck (no progress over the stuck window), physics runs only.
-    pub stuck: Option<bool>,
-    /// Why it got stuck, when a step higher than its `step_height` held it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stuck_cause: Option<String>,
-    /// Why the navigator gave up, when it did (nav runs): `goal_unreachable_for_costmap`,
-    /// `start_blocked`, `controller_failed`, `no_progress`, or `unknown` (over ROS).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub abort_reason: Option<String>,
-    /// Localisation position error (m) and the filter's position spread (m) at its last
-    /// update (AMCL runs).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub final_localization: Option<[f64; 2]>,
-    /// Mean localisation error against ground truth: position (m), heading (rad), over the
-    /// filter's updates (AMCL runs only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub localization_error: Option<[f64; 2]>,
-    /// Camera frames rendered, and the wall time spent rendering them (s) (`--sensors` runs).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub render: Option<(u64, f64)>,
-    /// How an external ROS stack's episode went (`--agent ros` runs).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ros: Option<crate::ros::external::RosEpisode>,
-}
-
-/// An episode that could not run, and why.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct InvalidRun {
-    /// The episode's id.
-    pub episode_id: String,
-    /// Why, in words.
-    pub reason: String,
-}
-
-/// What happened to one episode (one per episode: the variants' size difference costs
-/// nothing).
-#[derive(Debug, Clone)]
-#[allow(clippy::large_enum_variant)]
-pub enum Outcome {
-    /// It ran.
-    Ran(EpisodeRun),
-    /// It was invalid for the agent.
-    Invalid(InvalidRun),
-}
+pub(crate) use crate::camera_capture::{capture, RenderStats};
+pub use crate::outcome::{EpisodeRun, InvalidRun, Outcome};
+pub use crate::run_config::{PhysicsSetup, RunConfig};
 
 /// An environment made for one episode (one per episode: the variants' size difference
 /// costs nothing).
@@ -212,7 +91,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
     };
     if let (MadeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
         let goal = ep.goals[0].position.xy();
-        return crate::nav_agent::run_nav(e, &grid, &world.scene, index, &ep.episode_id, goal, setup, cfg, t0);
+        return crate::nav_episode::run_nav(e, &grid, &world.scene, index, &ep.episode_id, goal, setup, cfg, t0);
     }
     let Some(agent) = cfg.agent.build() else {
         return invalid(format!("agent {} needs --physics and its navigation setup", cfg.agent.name()));

@@ -169,67 +169,7 @@ pub fn axis_cell(x: f64, n: usize) -> Option<usize> {
 
 /// Distance (in cells) from each cell centre to the nearest `true` cell centre (exact EDT).
 pub fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f64> {
-    const INF: f64 = 1e20;
-    let mut f: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { INF }).collect();
-    let n = w.max(h);
-    let (mut buf, mut out, mut v, mut z) = (vec![0.0; n], vec![0.0; n], vec![0usize; n], vec![0.0; n + 1]);
-    let mut pass = |f: &mut Vec<f64>, len: usize, idx: &dyn Fn(usize) -> usize| {
-        for q in 0..len {
-            buf[q] = f[idx(q)];
-        }
-        dt1d(&buf[..len], &mut out[..len], &mut v, &mut z);
-        for q in 0..len {
-            f[idx(q)] = out[q];
-        }
-    };
-    for c in 0..w {
-        pass(&mut f, h, &|r| r * w + c);
-    }
-    for r in 0..h {
-        pass(&mut f, w, &|c| r * w + c);
-    }
-    f.into_iter().map(|x| if x >= INF * 0.5 { f64::INFINITY } else { x.sqrt() }).collect()
-}
-
-fn dt1d(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
-    let n = f.len();
-    let Some(first) = (0..n).find(|&q| f[q] < 1e19) else {
-        d.iter_mut().for_each(|x| *x = 1e20);
-        return;
-    };
-    let mut k = 0;
-    v[0] = first;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    for q in first + 1..n {
-        if f[q] >= 1e19 {
-            continue;
-        }
-        loop {
-            let p = v[k];
-            let s = ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q - p) as f64);
-            if s <= z[k] && k > 0 {
-                k -= 1;
-            } else if s <= z[k] {
-                v[0] = q;
-                z[1] = f64::INFINITY;
-                break;
-            } else {
-                k += 1;
-                v[k] = q;
-                z[k] = s;
-                z[k + 1] = f64::INFINITY;
-                break;
-            }
-        }
-    }
-    k = 0;
-    for q in 0..n {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        d[q] = (q as f64 - v[k] as f64).powi(2) + f[v[k]];
-    }
+    xhab_types::distance_field::edt(blocked, w, h)
 }
 
 #[cfg(test)]

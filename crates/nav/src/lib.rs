@@ -11,7 +11,8 @@ pub mod cell_bounds;
 pub mod costmap;
 pub mod depth_projection;
 pub mod depth_to_scan;
-pub mod distance_field;
+/// The exact distance transform, shared with the simulator's navigation grid.
+pub use xhab_types::distance_field;
 pub mod dwa;
 pub mod frontier;
 pub mod goal_approach;

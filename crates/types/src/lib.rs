@@ -4,6 +4,7 @@
 //! x forward, y left, z up, yaw counter-clockwise from +x.
 #![warn(missing_docs)]
 
+pub mod distance_field;
 mod geometry;
 mod grid;
 mod sensor;

@@ -148,88 +148,9 @@ pub(crate) fn segment_distance_where(
 }
 
 /// Euclidean distance transform: for each cell, the distance (in cells) from its centre to
-/// the nearest centre of a cell where `blocked` is true (Felzenszwalb & Huttenlocher, exact).
+/// the nearest centre of a cell where `blocked` is true (exact; infinite when none is).
 pub(crate) fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f32> {
-    const INF: f64 = 1e20;
-    let mut f: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { INF }).collect();
-    let mut buf = vec![0.0; w.max(h)];
-    let mut out = vec![0.0; w.max(h)];
-    // Columns, then rows.
-    for c in 0..w {
-        for r in 0..h {
-            buf[r] = f[r * w + c];
-        }
-        dt1d(&buf[..h], &mut out[..h]);
-        for r in 0..h {
-            f[r * w + c] = out[r];
-        }
-    }
-    for r in 0..h {
-        buf[..w].copy_from_slice(&f[r * w..(r + 1) * w]);
-        dt1d(&buf[..w], &mut out[..w]);
-        f[r * w..(r + 1) * w].copy_from_slice(&out[..w]);
-    }
-    f.into_iter().map(|v| if v >= INF * 0.5 { f32::INFINITY } else { v.sqrt() as f32 }).collect()
-}
-
-/// One-dimensional squared distance transform of sampled function `f` (lower envelope of parabolas).
-fn dt1d(f: &[f64], d: &mut [f64]) {
-    let n = f.len();
-    if n == 0 {
-        return;
-    }
-    let mut v = vec![0usize; n];
-    let mut z = vec![0.0f64; n + 1];
-    let mut k = 0usize;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    let finite = |x: f64| x < 1e19;
-    let mut started = false;
-    for q in 0..n {
-        if !finite(f[q]) {
-            continue;
-        }
-        if !started {
-            v[0] = q;
-            k = 0;
-            z[0] = f64::NEG_INFINITY;
-            z[1] = f64::INFINITY;
-            started = true;
-            continue;
-        }
-        loop {
-            let p = v[k];
-            let s = ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
-            if s <= z[k] && k > 0 {
-                k -= 1;
-                continue;
-            }
-            if s <= z[k] {
-                // k == 0 and the new parabola dominates everywhere.
-                v[0] = q;
-                z[0] = f64::NEG_INFINITY;
-                z[1] = f64::INFINITY;
-                break;
-            }
-            k += 1;
-            v[k] = q;
-            z[k] = s;
-            z[k + 1] = f64::INFINITY;
-            break;
-        }
-    }
-    if !started {
-        d.iter_mut().for_each(|x| *x = 1e20);
-        return;
-    }
-    k = 0;
-    for q in 0..n {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        let p = v[k];
-        d[q] = (q as f64 - p as f64).powi(2) + f[p];
-    }
+    xhab_types::distance_field::edt(blocked, w, h).into_iter().map(|v| v as f32).collect()
 }
 
 #[cfg(test)]

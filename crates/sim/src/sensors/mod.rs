@@ -9,6 +9,7 @@ pub mod mipmap;
 pub mod raster;
 pub mod raycast;
 pub mod renderer;
+mod rounding;
 pub mod surface;
 
 pub use camera::{render_depth, render_rgb, CameraParams};

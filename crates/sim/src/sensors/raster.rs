@@ -26,6 +26,7 @@
 
 use super::camera::CameraParams;
 use super::surface::{SurfaceTri, Surfaces};
+use super::rounding::{ceil_small, floor_i32};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
@@ -162,21 +163,6 @@ impl View {
             | ((p[1] < yt * p[2]) as u32) << 4
             | ((p[1] > yb * p[2]) as u32) << 5
     }
-}
-
-/// Largest whole number <= `x` for `|x| < 2^23`, without a libm call (saturating beyond the
-/// `i32` range, 0 for NaN).
-#[inline(always)]
-pub(crate) fn floor_i32(x: f32) -> i32 {
-    let i = x as i32;
-    i - ((i as f32) > x) as i32
-}
-
-/// Smallest whole number >= `x`, for `x` in [-1, 2^23].
-#[inline(always)]
-fn ceil_small(x: f32) -> i32 {
-    let i = x as i32;
-    i + ((i as f32) < x) as i32
 }
 
 /// A cluster in view: index, nearest depth (m), pixel rectangle `[u0, u1, v0, v1]` inclusive.
