@@ -27,4 +27,3 @@ pub mod storey_route;
 pub mod robot;
 pub mod physics_env;
 pub mod sensors;
-mod gaussian;

@@ -5,11 +5,13 @@
 #![warn(missing_docs)]
 
 pub mod distance_field;
+mod gaussian;
 mod geometry;
 mod grid;
 mod sensor;
 mod twist;
 
+pub use gaussian::gaussian;
 pub use geometry::{normalize_angle, Point2, Point3, Pose2};
 pub use grid::{OccupancyGrid, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
 pub use sensor::{DepthImage, Intrinsics, LaserScan};

@@ -59,12 +59,7 @@ impl OdomMotion {
     }
 }
 
-/// A standard normal draw (Box-Muller).
-pub(crate) fn gaussian(rng: &mut impl Rng) -> f64 {
-    let u1: f64 = rng.gen_range(f64::MIN_POSITIVE..1.0);
-    let u2: f64 = rng.gen();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
+pub(crate) use xhab_types::gaussian;
 
 #[cfg(test)]
 mod tests {

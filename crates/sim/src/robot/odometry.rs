@@ -4,7 +4,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use crate::gaussian::gaussian;
+use xhab_types::gaussian;
 use serde::{Deserialize, Serialize};
 use xhab_types::{normalize_angle, Pose2};
 

@@ -1,7 +1,7 @@
 //! Optional depth-camera noise, seeded: Gaussian noise growing with the square of depth (as
 //! structured-light sensors), and dropout of pixels on depth edges. Off by default.
 
-use crate::gaussian::gaussian;
+use xhab_types::gaussian;
 use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
 use xhab_types::DepthImage;

@@ -1,7 +1,7 @@
 //! A simulated planar lidar: horizontal rays at a height above the floor, seeded noise.
 
 use super::raycast::RayScene;
-use crate::gaussian::gaussian;
+use xhab_types::gaussian;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
