@@ -199,3 +199,59 @@ fn episode(id: usize, scene_id: &str, start: xhab_types::Point3, goal: xhab_type
         info: serde_json::json!({ "geodesic_distance": d }),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geodesic::geodesic_distance;
+    use crate::navgrid::AgentParams;
+    use crate::scene::house::{generate_house, HouseParams};
+
+    #[test]
+    fn a_pair_is_kept_by_habitats_distance_limits_and_ratio_rule() {
+        let p = GeneratorParams::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        // Outside [1, 30] m, or undefined: never kept, whatever the ratio.
+        for (d, e) in [(0.99, 0.5), (30.01, 10.0), (f64::INFINITY, 3.0), (f64::NAN, 3.0)] {
+            assert!(!keeps(d, e, &p, &mut rng), "{d} m kept");
+        }
+        // At or above the ratio: kept without a draw (the stream is untouched).
+        let before = rng.clone();
+        assert!(keeps(5.5, 5.0, &p, &mut rng) && keeps(1.0, 0.5, &p, &mut rng) && keeps(30.0, 3.0, &p, &mut rng));
+        assert_eq!(rng.gen::<u64>(), before.clone().gen::<u64>(), "a pair above the ratio drew from the stream");
+        // Below it: kept with probability 20 (ratio - 0.98)^2, within four standard deviations.
+        for ratio in [1.0, 1.03, 1.06, 1.09] {
+            let want = 20.0 * (ratio - 0.98f64).powi(2);
+            let n = 20_000;
+            let kept = (0..n).filter(|_| keeps(4.0 * ratio, 4.0, &p, &mut rng)).count() as f64;
+            let sd = (n as f64 * want * (1.0 - want)).sqrt();
+            assert!((kept - n as f64 * want).abs() <= 4.0 * sd, "ratio {ratio}: kept {kept} of {n}, expected {:.0}", n as f64 * want);
+        }
+    }
+
+    #[test]
+    fn generated_episodes_follow_the_rules_they_claim() {
+        let scene = generate_house(3, &HouseParams::default());
+        let grid = NavGrid::build(&scene, &AgentParams::default(), 0.0).unwrap();
+        let p = GeneratorParams::default();
+        let ds = generate_episodes(&grid, "house", 60, 11, &p).unwrap();
+        assert_eq!(ds.episodes.len(), 60);
+        let mut below_ratio = 0;
+        for e in &ds.episodes {
+            let (s, g) = (e.start_position, e.goals[0].position);
+            let d = e.geodesic_distance.unwrap();
+            assert!((p.closest_dist_limit..=p.furthest_dist_limit).contains(&d), "episode {}: {d} m", e.episode_id);
+            assert!((d - geodesic_distance(&grid, s.xy(), g.xy())).abs() <= 5e-3 * d, "episode {}: recorded {d} m", e.episode_id);
+            assert!(grid.is_navigable(s.xy()) && grid.is_navigable(g.xy()) && (s.z - g.z).abs() <= 0.5);
+            let island = grid.island_at(g.xy()).expect("the goal is on an island") as usize;
+            assert!(grid.islands[island].radius >= p.island_radius_limit, "episode {}: goal island of radius {}", e.episode_id, grid.islands[island].radius);
+            assert_eq!(grid.island_at(s.xy()), Some(island as u32));
+            assert_eq!(e.goals[0].radius, p.goal_radius);
+            if d / s.xy().dist(g.xy()) < p.geodesic_to_euclid_min_ratio {
+                below_ratio += 1;
+            }
+        }
+        // Straight pairs are common in a house of rooms; the rule keeps few of them.
+        assert!(below_ratio <= 15, "{below_ratio} of 60 episodes below the ratio");
+    }
+}
