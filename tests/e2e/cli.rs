@@ -203,10 +203,19 @@ fn nav_agent_reaches_goals_under_physics() {
     assert!(a["real_time_factor"].as_f64().unwrap() > 0.0, "{a}");
     // Localised by AMCL on the same map, with the lidar.
     let r2 = d.join("amcl.json");
-    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--localization", "amcl", "--out", r2.to_str().unwrap(), "--quiet"]);
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--localization", "amcl", "--threads", "1", "--out", r2.to_str().unwrap(), "--quiet"]);
     let a2 = read_json(&r2)["aggregate"].clone();
     eprintln!("nav + amcl on procedural:6: {a2}");
     assert!(a2["success"].as_f64().unwrap() >= 4.0 / 6.0, "{a2}");
+    // AMCL's particles are seeded per episode: three threads give the one thread's run.
+    let r2b = d.join("amcl3.json");
+    run(&["bench", "--scene", "procedural:6", "--episodes", eps.to_str().unwrap(), "--agent", "nav", "--localization", "amcl", "--threads", "3", "--out", r2b.to_str().unwrap(), "--quiet"]);
+    let (mut one, mut three) = (read_json(&r2), read_json(&r2b));
+    for j in [&mut one, &mut three] {
+        without_timings(j);
+        j.as_object_mut().unwrap().remove("threads");
+    }
+    assert_eq!(one, three, "nav + AMCL differs between 1 and 3 threads");
     // A navigation YAML with ROS names is accepted; a typo is named.
     let y = d.join("nav.yaml");
     std::fs::write(&y, "DWAPlannerROS:\n  max_vel_x: 0.4\nglobal_costmap:\n  inflation_radius: 0.5\n").unwrap();
