@@ -62,6 +62,20 @@ export XHAB_REQUIRE_GPU=1
 export XHAB_REQUIRE_SLURM=1
 export XHAB_REQUIRE_CHROMIUM=1
 ./scripts/check_deps.sh
+# Every test that skips says so in this file too (cargo hides the stderr of passing tests);
+# the summary is printed at the end, pass or fail.
+skip_log="$(mktemp)"
+export XHAB_SKIP_LOG="$skip_log"
+skip_summary() {
+  if [ -s "$skip_log" ]; then
+    echo "xhab test: $(sort -u "$skip_log" | wc -l) test(s) skipped:"
+    sort -u "$skip_log" | sed 's/^/  /'
+  else
+    echo "xhab test: no test skipped"
+  fi
+  rm -f "$skip_log"
+}
+trap skip_summary EXIT
 cargo test --workspace --locked 2>&1
 # The Python package (crates/python): wheel built into .venv, pytest.
 ./scripts/python_tests.sh

@@ -2,7 +2,7 @@
 
 #[path = "../support/data.rs"]
 mod data;
-pub use data::{data_dir, repo_root};
+pub use data::{data_dir, repo_root, skipped};
 
 /// The `xhab` binary built for these tests.
 pub fn xhab() -> std::process::Command {

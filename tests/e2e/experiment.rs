@@ -152,7 +152,7 @@ fn slurm_available(test: &str) -> bool {
         if std::env::var("XHAB_REQUIRE_SLURM").as_deref() == Ok("1") {
             panic!("{test}: XHAB_REQUIRE_SLURM=1 but slurm-wlm/munge are missing, or neither root nor passwordless sudo (install slurm-wlm munge)");
         }
-        eprintln!("SKIPPED {test}: slurm-wlm and munge not installed, or neither root nor passwordless sudo");
+        crate::common::skipped(test, "slurm-wlm and munge not installed, or neither root nor passwordless sudo");
     }
     ok
 }

@@ -22,7 +22,7 @@ fn gpu_depth_agrees_with_the_ray_cast_on_real_scenes() {
                 panic!("{test}: XHAB_REQUIRE_GPU=1 but the GPU renderer is unavailable: {e}")
             }
             Err(e) => {
-                eprintln!("SKIPPED {test}: no GPU renderer ({e})");
+                crate::common::skipped(test, &format!("no GPU renderer ({e})"));
                 return;
             }
         };

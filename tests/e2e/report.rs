@@ -19,7 +19,7 @@ fn chromium(test: &str) -> Option<PathBuf> {
     if std::env::var("XHAB_REQUIRE_CHROMIUM").as_deref() == Ok("1") {
         panic!("{test}: XHAB_REQUIRE_CHROMIUM=1 but chromium is not installed (Debian: apt-get install chromium)");
     }
-    eprintln!("SKIPPED {test}: chromium not installed");
+    crate::common::skipped(test, "chromium not installed");
     None
 }
 

@@ -31,7 +31,7 @@ pub fn ros2_python(test: &str) -> Option<PathBuf> {
     if std::env::var("XHAB_REQUIRE_ROS2").as_deref() == Ok("1") {
         panic!("{test}: XHAB_REQUIRE_ROS2=1 but {} cannot import rclpy (run scripts/test.sh, which installs ros-kilted-rclpy[fastrtps] there)", py.display());
     }
-    eprintln!("SKIPPED {test}: no rclpy at {} (scripts/test.sh installs it; or set XHAB_ROS2_PYTHON)", py.display());
+    crate::common::skipped(test, &format!("no rclpy at {} (scripts/test.sh installs it; or set XHAB_ROS2_PYTHON)", py.display()));
     None
 }
 

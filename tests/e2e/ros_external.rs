@@ -31,7 +31,7 @@ fn ros_with(test: &str, modules: &[&str], tools: &[&str]) -> bool {
     if std::env::var("XHAB_REQUIRE_ROS").as_deref() == Ok("1") {
         panic!("{test}: XHAB_REQUIRE_ROS=1 but ROS is incomplete: missing {missing:?} (Debian: python3-rosmaster python3-rospy python3-rosbag rosbag python3-actionlib python3-tf2-ros python3-move-base-msgs)");
     }
-    eprintln!("SKIPPED {test}: missing {missing:?}");
+    crate::common::skipped(test, &format!("missing {missing:?}"));
     false
 }
 

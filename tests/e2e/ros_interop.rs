@@ -14,7 +14,7 @@ pub fn ros_available(test: &str) -> bool {
         if std::env::var("XHAB_REQUIRE_ROS").as_deref() == Ok("1") {
             panic!("{test}: XHAB_REQUIRE_ROS=1 but rosmaster/rospy are missing (install python3-rosmaster python3-rospy python3-rosbag)");
         }
-        eprintln!("SKIPPED {test}: rosmaster or rospy not installed");
+        crate::common::skipped(test, "rosmaster or rospy not installed");
     }
     ok
 }

@@ -49,7 +49,7 @@ fn textured_rgb_agrees_between_the_renderers_on_real_scenes() {
                 panic!("{test}: XHAB_REQUIRE_GPU=1 but the GPU renderer is unavailable: {e}")
             }
             Err(e) => {
-                eprintln!("SKIPPED {test} (wgpu part): no GPU renderer ({e})");
+                crate::common::skipped(&format!("{test} (wgpu part)"), &format!("no GPU renderer ({e})"));
                 None
             }
         };

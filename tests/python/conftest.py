@@ -54,3 +54,13 @@ def cli_bench(tmp_path_factory):
         return json.loads(out.read_text())
 
     return run
+
+
+def pytest_runtest_logreport(report):
+    """Records a skipped test and its reason in ``$XHAB_SKIP_LOG``, when set, for the summary
+    the README's test command prints at the end."""
+    log = os.environ.get("XHAB_SKIP_LOG")
+    if log and report.skipped:
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        with open(log, "a") as f:
+            f.write("%s: %s\n" % (report.nodeid, reason))

@@ -16,8 +16,22 @@ pub fn data_dir(test: &str) -> Option<PathBuf> {
     if std::env::var("XHAB_REQUIRE_DATA").as_deref() == Ok("1") {
         panic!("{test}: XHAB_REQUIRE_DATA=1 but the shared data is missing at {}", dir.display());
     }
-    eprintln!("SKIPPED {test}: shared data not found at {} (set XHAB_DATA)", dir.display());
+    skipped(test, &format!("shared data not found at {} (set XHAB_DATA)", dir.display()));
     None
+}
+
+/// Says loudly that `test` skipped and why: on stderr, and as a line of the file
+/// `$XHAB_SKIP_LOG` when set, which the README's test command prints as a summary at the end
+/// (cargo hides the stderr of passing tests).
+#[allow(dead_code)]
+pub fn skipped(test: &str, reason: &str) {
+    eprintln!("SKIPPED {test}: {reason}");
+    if let Some(log) = std::env::var_os("XHAB_SKIP_LOG") {
+        use std::io::Write;
+        if let Ok(mut f) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
+            let _ = writeln!(f, "{test}: {reason}");
+        }
+    }
 }
 
 /// The workspace's root folder.

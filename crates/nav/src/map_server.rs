@@ -351,8 +351,13 @@ pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), MapError> 
 }
 
 #[cfg(test)]
+#[path = "../../../tests/support/data.rs"]
+mod test_data;
+
+#[cfg(test)]
 mod tests {
     use super::*;
+    use super::test_data;
 
     fn dir() -> PathBuf {
         let d = std::env::temp_dir().join(format!("xhab-map-{}-{:?}", std::process::id(), std::thread::current().id()));
@@ -433,15 +438,8 @@ mod tests {
 
     #[test]
     fn shared_maps_load() {
-        let dir = std::env::var_os("XHAB_DATA")
-            .map(PathBuf::from)
-            .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared")))
-            .join("maps");
-        if !dir.is_dir() {
-            assert!(std::env::var("XHAB_REQUIRE_DATA").as_deref() != Ok("1"), "shared maps missing at {}", dir.display());
-            eprintln!("SKIPPED shared_maps_load: no shared data at {}", dir.display());
-            return;
-        }
+        let Some(root) = test_data::data_dir("shared_maps_load") else { return };
+        let dir = root.join("maps");
         let mut n = 0;
         for e in std::fs::read_dir(&dir).unwrap() {
             let p = e.unwrap().path();

@@ -23,7 +23,7 @@ fn grid_of(scene: &str) -> Option<std::sync::Arc<NavGrid>> {
     let path = dir.join("scenes").join(scene);
     if !path.is_file() {
         assert!(std::env::var("XHAB_REQUIRE_DATA").as_deref() != Ok("1"), "shared data missing at {}", path.display());
-        eprintln!("SKIPPED geodesic_vs_field {scene}: shared data not found at {}", path.display());
+        crate::data::skipped(&format!("geodesic_vs_field {scene}"), &format!("shared data not found at {}", path.display()));
         return None;
     }
     let s = xhab_sim::scene::load(&path, &Default::default()).expect("scene loads");

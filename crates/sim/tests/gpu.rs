@@ -22,7 +22,7 @@ pub fn gpu(test: &str, scene: &Scene) -> Option<GpuRenderer> {
             panic!("{test}: XHAB_REQUIRE_GPU=1 but the GPU renderer is unavailable: {e}")
         }
         Err(e) => {
-            eprintln!("SKIPPED {test}: no GPU renderer ({e})");
+            crate::data::skipped(test, &format!("no GPU renderer ({e})"));
             None
         }
     }

@@ -1,4 +1,6 @@
 //! Integration tests of xhab-sim, one binary (topic files below).
+#[path = "../../../tests/support/data.rs"]
+mod data;
 mod common;
 mod env_oracle;
 mod physics;

@@ -5,9 +5,7 @@ use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::scene::house::{generate_house, HouseParams};
 use xhab_sim::scene::{load, to_glb_bytes, LoadOptions, Scene, UpAxis};
 
-#[path = "../../../tests/support/data.rs"]
-mod data;
-use data::data_dir;
+use crate::data::data_dir;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("xhab-scenes-{}", std::process::id()));
