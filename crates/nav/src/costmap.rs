@@ -160,12 +160,7 @@ pub(crate) fn border_cells(c: usize, r: usize, w: usize, h: usize) -> usize {
     (c + 1).min(r + 1).min(w - c).min(h - r)
 }
 
-/// The cell index `floor(x)` along an axis of `n` cells, if in `0..n` (`x` in cells; NaN is
-/// outside). Truncation equals `floor` for the non-negative values kept, without a libm call.
-#[inline]
-pub fn axis_cell(x: f64, n: usize) -> Option<usize> {
-    (x >= 0.0 && x < n as f64).then_some(x as usize)
-}
+pub use xhab_types::axis_cell;
 
 /// Distance (in cells) from each cell centre to the nearest `true` cell centre (exact EDT).
 pub fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f64> {

@@ -48,12 +48,7 @@ impl OccupancyGrid {
     /// Cell containing world point `p`, or `None` outside the grid.
     pub fn world_to_cell(&self, p: Point2) -> Option<(usize, usize)> {
         let l = self.origin.inverse().compose(Pose2::new(p.x, p.y, 0.0));
-        let c = (l.x / self.resolution).floor();
-        let r = (l.y / self.resolution).floor();
-        if c < 0.0 || r < 0.0 || c >= self.width as f64 || r >= self.height as f64 {
-            return None;
-        }
-        Some((c as usize, r as usize))
+        Some((axis_cell(l.x / self.resolution, self.width)?, axis_cell(l.y / self.resolution, self.height)?))
     }
 
     /// The grid in the world's axes: itself when its origin is not rotated (yaw 0), else a
@@ -87,6 +82,17 @@ impl OccupancyGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn world_to_cell_is_floor_inside_and_none_outside_or_for_nan() {
+        let g = OccupancyGrid::new(4, 3, 0.5, Pose2::new(-1.0, 2.0, 0.0), 0);
+        assert_eq!(g.world_to_cell(Point2::new(-1.0, 2.0)), Some((0, 0)));
+        assert_eq!(g.world_to_cell(Point2::new(0.99, 3.49)), Some((3, 2)));
+        assert_eq!(g.world_to_cell(Point2::new(-1.01, 2.0)), None);
+        assert_eq!(g.world_to_cell(Point2::new(1.0, 2.0)), None);
+        assert_eq!(g.world_to_cell(Point2::new(f64::NAN, 2.5)), None, "NaN used to land in cell 0");
+        assert_eq!(g.world_to_cell(Point2::new(0.0, f64::INFINITY)), None);
+    }
 
     #[test]
     fn a_rotated_grid_keeps_its_values_where_they_are_in_the_world() {
@@ -130,4 +136,12 @@ mod tests {
         assert_eq!(a.data.iter().filter(|&&v| v == GRID_OCCUPIED).count(), 1);
         assert!(!a.data.contains(&GRID_UNKNOWN));
     }
+}
+
+/// The cell index `floor(x)` along an axis of `n` cells, if in `0..n` (`x` in cells; NaN is
+/// outside): the one world-to-cell rule of every grid (occupancy grids, costmaps, navigation
+/// grids). Truncation equals `floor` for the non-negative values kept, without a libm call.
+#[inline]
+pub fn axis_cell(x: f64, n: usize) -> Option<usize> {
+    (x >= 0.0 && x < n as f64).then_some(x as usize)
 }

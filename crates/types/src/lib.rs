@@ -13,6 +13,6 @@ mod twist;
 
 pub use gaussian::gaussian;
 pub use geometry::{normalize_angle, Point2, Point3, Pose2};
-pub use grid::{OccupancyGrid, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
+pub use grid::{axis_cell, OccupancyGrid, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
 pub use sensor::{DepthImage, Intrinsics, LaserScan};
 pub use twist::Twist;

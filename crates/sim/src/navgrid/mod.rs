@@ -280,12 +280,9 @@ impl NavGrid {
     }
     /// Index of the cell containing `p`, or `None` outside the grid.
     pub(crate) fn cell_of(&self, p: Point2) -> Option<usize> {
-        let c = ((p.x - self.spec.x0) / self.spec.res).floor();
-        let r = ((p.y - self.spec.y0) / self.spec.res).floor();
-        if !(c >= 0.0 && r >= 0.0 && c < self.spec.w as f64 && r < self.spec.h as f64) {
-            return None;
-        }
-        Some(r as usize * self.spec.w + c as usize)
+        let c = xhab_types::axis_cell((p.x - self.spec.x0) / self.spec.res, self.spec.w)?;
+        let r = xhab_types::axis_cell((p.y - self.spec.y0) / self.spec.res, self.spec.h)?;
+        Some(r * self.spec.w + c)
     }
     /// Whether cell `i` is navigable.
     pub(crate) fn is_nav_cell(&self, i: usize) -> bool {
