@@ -160,6 +160,20 @@ put("nav_params", "dwa.yaml", "DWAPlannerROS:\n  max_vel_x: 0.22\n  min_vel_x: -
     "  path_distance_bias: 32.0\n  goal_distance_bias: 20.0\n  occdist_scale: 0.02\n")
 put("nav_params", "amcl.yaml", "@amcl\nmin_particles: 500\nmax_particles: 3000\nkld_err: 0.02\nupdate_min_d: 0.20\nupdate_min_a: !degrees 11.5\n"
     "laser_model_type: likelihood_field\nodom_model_type: diff\nodom_alpha1: 0.1\nuse_map_topic: yes\n")
+# Nav2's layout (ros__parameters under node names, plugins by name), as nav2_bringup writes it.
+put("nav_params", "nav2.yaml",
+    "amcl:\n  ros__parameters:\n    alpha1: 0.2\n    max_particles: 2000\n    laser_model_type: \"likelihood_field\"\n"
+    "controller_server:\n  ros__parameters:\n    controller_frequency: 20.0\n    controller_plugins: [\"FollowPath\"]\n"
+    "    goal_checker_plugins: [\"general_goal_checker\"]\n    general_goal_checker:\n      plugin: \"nav2_controller::SimpleGoalChecker\"\n"
+    "      xy_goal_tolerance: 0.25\n    FollowPath:\n      plugin: \"dwb_core::DWBLocalPlanner\"\n      max_vel_x: 0.26\n"
+    "      vx_samples: 20\n      critics: [\"BaseObstacle\", \"PathAlign\", \"PathDist\", \"GoalDist\"]\n      PathDist.scale: 32.0\n"
+    "local_costmap:\n  local_costmap:\n    ros__parameters:\n      rolling_window: true\n      width: 3\n      robot_radius: 0.22\n"
+    "      plugins: [\"voxel_layer\", \"inflation_layer\"]\n      inflation_layer:\n        plugin: \"nav2_costmap_2d::InflationLayer\"\n"
+    "        cost_scaling_factor: 3.0\n        inflation_radius: 0.55\n      voxel_layer:\n        plugin: \"nav2_costmap_2d::VoxelLayer\"\n"
+    "        observation_sources: scan\n        scan:\n          topic: /scan\n          data_type: \"LaserScan\"\n          marking: True\n"
+    "global_costmap:\n  global_costmap:\n    ros__parameters:\n      footprint: \"[[-0.1, -0.1], [-0.1, 0.1], [0.1, 0.1], [0.1, -0.1]]\"\n"
+    "planner_server:\n  ros__parameters:\n    planner_plugins: [\"GridBased\"]\n    GridBased:\n      plugin: \"nav2_navfn_planner::NavfnPlanner\"\n      tolerance: 0.5\n"
+    "bt_navigator:\n  ros__parameters:\n    global_frame: map\n")
 
 # --- ROS 1 messages (first byte: the type, as in fuzz_targets/ros_msgs.rs) ----------------
 def s(text):
