@@ -15,6 +15,7 @@ pub mod agents;
 pub mod benchmark;
 pub mod demo;
 pub mod explore;
+pub mod external_stack;
 pub mod exploration_run;
 pub mod global_localization;
 pub mod gym;
