@@ -10,6 +10,7 @@
 pub mod convert;
 pub mod live;
 pub mod msgs;
+pub mod navigate_action;
 pub mod nav_node;
 pub mod node;
 pub mod sim_node;

@@ -1,7 +1,9 @@
 //! The native navigation stack as a ROS 2 node, with Nav2's names. In: `scan`, `odom`, `map`
 //! (and `amcl/map`, transient local), `/tf` and `/tf_static`, `initialpose`, `goal_pose`,
 //! `ground_truth/pose` (with `--localization ground_truth`). Out: `cmd_vel`, `amcl_pose`
-//! (transient local, as Nav2's amcl), `/tf` map -> odom (only when it localises).
+//! (transient local, as Nav2's amcl), `/tf` map -> odom (only when it localises). Serves
+//! the `navigate_to_pose` action ([`super::navigate_action`]), which also reports the fate
+//! of `goal_pose` goals.
 //!
 //! It runs a controller step on each odometry message at least one controller period (sim
 //! time, from the stamps) after the last, with the newest scan: the same `NavBrain` as
@@ -10,6 +12,8 @@
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, tf2_msgs, RosType};
+use super::msgs::nav2_msgs::NavigateToPoseResult;
+use super::navigate_action::{distance_remaining, GoalEnd, NavigateServer, Request};
 use super::node::{command_qos, latched_qos, reliable_qos, sensor_data_qos, Ros2Config, Ros2Node};
 use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, INITIAL_STD_XY, INITIAL_STD_YAW};
 use crate::ros::names::Names;
@@ -79,6 +83,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let inits = node.subscription::<gm::PoseWithCovarianceStamped>("initialpose", command_qos())?;
     let goals = node.subscription::<gm::PoseStamped>("goal_pose", command_qos())?;
     let truths = node.subscription::<gm::PoseStamped>("ground_truth/pose", command_qos())?;
+    let mut action = NavigateServer::new(&mut node, "navigate_to_pose")?;
 
     // Without its own localiser the node reads map -> odom from tf (someone else's amcl, or
     // the simulator's ground truth); it then steers by that pose.
@@ -144,14 +149,44 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             tracing::info!("initial pose ({:.2}, {:.2}, {:.2})", p.x, p.y, p.yaw);
         }
         let m2o = brain.as_ref().map_or(Pose2::default(), |b| b.map_to_odom());
-        for g in drain(&goals, "goal_pose") {
-            match goal_in_map(&buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
-                Some(p) if p.x.is_finite() && p.y.is_finite() => {
-                    goal = Some(p);
-                    goal_pending = true;
+        // Goals from `goal_pose` (adopted by the action), then the action's requests in order
+        // (`None`: the current goal was cancelled).
+        let now_s = last_odom.map_or(0.0, |o| o.0);
+        let topic = drain(&goals, "goal_pose").into_iter().map(|g| (Some(g), true));
+        let requests = action.poll(now_s)?.into_iter().map(|r| match r {
+            Request::Goal(g) => (Some(g), false),
+            Request::Cancel => (None, false),
+        });
+        for (g, from_topic) in topic.chain(requests).collect::<Vec<_>>() {
+            let refused = match g {
+                None => Some(None),
+                Some(g) => match goal_in_map(&buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
+                    Some(p) if p.x.is_finite() && p.y.is_finite() => {
+                        goal = Some(p);
+                        goal_pending = true;
+                        if from_topic {
+                            action.adopt(now_s)?;
+                        }
+                        None
+                    }
+                    Some(_) => Some(Some((NavigateToPoseResult::UNKNOWN, "a goal with a non-finite position".to_string()))),
+                    None => Some(Some((NavigateToPoseResult::TF_ERROR, format!("a goal in frame '{}': no transform to map", g.header.frame_id)))),
+                },
+            };
+            match refused {
+                None => {}
+                Some(Some((code, why))) if from_topic => tracing::warn!("{why} ignored (code {code})"),
+                Some(end) => {
+                    // The action's goal replaced the old one: the base stops.
+                    if let Some((code, why)) = end {
+                        tracing::warn!("{why}: aborted");
+                        action.finish(GoalEnd::Aborted(code, why))?;
+                    } else {
+                        tracing::info!("goal cancelled");
+                    }
+                    (goal, goal_pending) = (None, false);
+                    publish(&cmd_vel, "cmd_vel", cv::twist(Twist::default()))?;
                 }
-                Some(_) => tracing::warn!("goal_pose with a non-finite position ignored"),
-                None => tracing::warn!("goal in frame '{}' ignored: no transform to map", g.header.frame_id),
             }
         }
         let Some(od) = drain(&odoms, "odom").pop() else {
@@ -216,12 +251,17 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             NavReply::Drive(tw) => tw,
             NavReply::Stop | NavReply::Abort => {
                 tracing::info!("goal {}", if r == NavReply::Stop { "reached" } else { "aborted: failed to reach it" });
+                action.finish(if r == NavReply::Stop { GoalEnd::Reached } else { GoalEnd::navigator_abort(b.abort_reason()) })?;
                 goal = None;
                 Twist::default()
             }
         };
         publish(&cmd_vel, "cmd_vel", cv::twist(tw))?;
         let m2o = b.map_to_odom();
+        if let Some(g) = goal {
+            let here = m2o.compose(odom);
+            action.feedback(now, cv::pose(here, 0.0), distance_remaining(b.navigator().plan(), here.position(), g), tw.linear, b.navigator().recoveries())?;
+        }
         if b.amcl().is_some() {
             publish(&tf_out, "/tf", tf2_msgs::TFMessage { transforms: vec![cv::tf(now, "map", "odom", cv::transform(m2o, 0.0))] })?;
             if let Some(a) = b.amcl().filter(|_| scan.is_some()) {
