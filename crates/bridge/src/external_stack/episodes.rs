@@ -211,6 +211,12 @@ async fn episode<S: StackSim, C: GoalClient>(
                         }
                         None => missed += 1,
                     }
+                } else if client.acknowledges_at_once() {
+                    // The clock stands until the stack has taken the goal.
+                    let deadline = Instant::now() + grace;
+                    while client.absorb().is_none() && Instant::now() < deadline {
+                        tokio::time::sleep(Duration::from_millis(1)).await;
+                    }
                 } else {
                     // Give the stack a moment to take the goal before the clock moves on.
                     if let Some(c) = sim.cmd_vel_within(grace.min(Duration::from_millis(50))).await {

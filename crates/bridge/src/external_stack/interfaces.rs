@@ -56,6 +56,12 @@ pub trait GoalClient {
     /// Before each episode: what the stack offers to start afresh (ROS 1: move_base's
     /// `clear_costmaps`).
     async fn before_episode(&mut self) {}
+    /// Whether the stack takes a goal at once, without its clock moving (a ROS 2 action's
+    /// goal response): in lock-step the clock then waits for it (up to the grace), so that
+    /// the tick at which the stack starts on the goal does not depend on timing.
+    fn acknowledges_at_once(&self) -> bool {
+        false
+    }
     /// The resolved name the stack reports goal states on, for messages.
     fn status_topic(&self) -> String;
 }

@@ -31,8 +31,10 @@ pub struct MoveBaseClient {
     pub state: Option<u8>,
     /// Whether any status message came from a server.
     pub server_seen: bool,
-    /// move_base's `clear_costmaps`, called before each episode while it answers.
-    clear: Option<ServiceClient<std_srvs::Empty>>,
+    /// move_base's `clear_costmaps`, called before each episode while it answers (`None`:
+    /// not looked up yet; it is once the stack is up, before the first episode).
+    clear: Option<Option<ServiceClient<std_srvs::Empty>>>,
+    nh: roslibrust::ros1::NodeHandle,
     clear_name: String,
     status_name: String,
 }
@@ -43,7 +45,8 @@ impl MoveBaseClient {
     pub async fn new(node: &RosNode, interface: GoalInterface) -> Result<Self, RosError> {
         let clear_name = node.names.resolve("move_base/clear_costmaps");
         Ok(Self {
-            clear: node.nh.service_client::<std_srvs::Empty>(&clear_name).await.ok(),
+            clear: None,
+            nh: node.nh.clone(),
             clear_name,
             status_name: node.names.resolve("move_base/status"),
             interface,
@@ -166,10 +169,13 @@ impl GoalClient for MoveBaseClient {
     }
 
     async fn before_episode(&mut self) {
-        if let Some(c) = self.clear.as_ref() {
+        if self.clear.is_none() {
+            self.clear = Some(self.nh.service_client::<std_srvs::Empty>(&self.clear_name).await.ok());
+        }
+        if let Some(Some(c)) = self.clear.as_ref() {
             if tokio::time::timeout(Duration::from_secs(2), c.call(&std_srvs::EmptyRequest {})).await.map_or(true, |r| r.is_err()) {
                 tracing::warn!("{} did not answer: costmaps are not cleared between episodes", self.clear_name);
-                self.clear = None;
+                self.clear = Some(None);
             }
         }
     }

@@ -105,6 +105,12 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let mut pending_scan: Option<sensor_msgs::LaserScan> = None;
     let mut truth: Option<Pose2> = None;
     loop {
+        // Odometry first: what a peer sent before it (the tick's scan and tf, `initialpose`,
+        // a goal) has arrived by then and is taken below, whatever the threads' timing.
+        let od_now = drain(&odoms, "odom").pop();
+        // A goal starts at the first odometry taken after it (never at one that came along
+        // with it, which may have been sent before it).
+        let goal_due = goal_pending;
         for m in drain(&tf_statics, "/tf_static").into_iter().chain(drain(&tfs, "/tf")) {
             for t in &m.transforms {
                 buffer.insert_edge(&t.header.frame_id, &t.child_frame_id, cv::pose2_of_transform(&t.transform));
@@ -143,7 +149,8 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             }
             let spread = (ip.pose.covariance[0].max(0.0).sqrt(), ip.pose.covariance[35].max(0.0).sqrt());
             init = Some((p, spread, cv::seconds(&ip.header.stamp)));
-            if let (Some(b), Some((_, o))) = (brain.as_mut(), last_odom) {
+            // With the odometry of this instant when it came along (an episode's start).
+            if let (Some(b), Some(o)) = (brain.as_mut(), od_now.as_ref().map(|o| cv::pose2(&o.pose.pose)).or(last_odom.map(|l| l.1))) {
                 b.set_initial_pose(p, o, spread);
             }
             tracing::info!("initial pose ({:.2}, {:.2}, {:.2})", p.x, p.y, p.yaw);
@@ -189,7 +196,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
                 }
             }
         }
-        let Some(od) = drain(&odoms, "odom").pop() else {
+        let Some(od) = od_now else {
             tokio::time::sleep(POLL).await;
             continue;
         };
@@ -204,7 +211,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
         }
         let odom = cv::pose2(&od.pose.pose);
         last_odom = Some((now, odom));
-        if goal_pending {
+        if goal_pending && goal_due {
             if let (Some(g), Some(m)) = (goal, current_map.as_ref()) {
                 match brain.as_mut() {
                     Some(b) => b.set_goal(g, now),
@@ -224,7 +231,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             }
         }
         let Some(b) = brain.as_mut() else { continue };
-        if goal.is_none() || last_tick.is_some_and(|l| now < l + period - 1e-6) {
+        if goal.is_none() || goal_pending || last_tick.is_some_and(|l| now < l + period - 1e-6) {
             continue;
         }
         last_tick = Some(now);

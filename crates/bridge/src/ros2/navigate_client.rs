@@ -174,6 +174,12 @@ impl GoalClient for NavigateClient {
         self.state = None;
     }
 
+    fn acknowledges_at_once(&self) -> bool {
+        // The action's goal response comes at once; over `goal_pose` the status may be on a
+        // timer of the stack's.
+        self.interface == GoalInterface::Action
+    }
+
     fn status_topic(&self) -> String {
         self.status_name.clone()
     }
