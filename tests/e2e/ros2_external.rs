@@ -86,7 +86,7 @@ fn an_rclpy_navigation_node_is_benchmarked_with_agent_ros2() {
     assert_eq!(easy.len(), 3, "three straight-line episodes from 20 starts");
     let eps = dir.join("easy.json.gz");
     write_dataset(&Dataset { episodes: easy }, &eps).unwrap();
-    let domain = domain_id(11);
+    let domain = domain_id(61);
     let out_json = dir.join("goto.json");
     // rclpy's Fast DDS keeps to loopback by its profile, not by the discovery range (see
     // tests/e2e/ros2/fastdds_loopback.xml).
@@ -146,7 +146,7 @@ fn xhab_ros2_nav_is_benchmarked_through_navigate_to_pose() {
         text
     };
     let out_json = dir.join("action.json");
-    let text = bench(&[], &out_json, &domain_id(12));
+    let text = bench(&[], &out_json, &domain_id(62));
     assert!(text.contains("ros: goals ended 3 SUCCEEDED"), "every goal SUCCEEDED");
     let r = json(&out_json);
     for e in r["episodes"].as_array().unwrap() {
@@ -157,9 +157,38 @@ fn xhab_ros2_nav_is_benchmarked_through_navigate_to_pose() {
 
     write_dataset(&Dataset { episodes: all.episodes[..1].to_vec() }, &eps).unwrap();
     let out_json = dir.join("timeout.json");
-    bench(&["--episode-timeout", "3"], &out_json, &domain_id(13));
+    bench(&["--episode-timeout", "3"], &out_json, &domain_id(63));
     let e = &json(&out_json)["episodes"][0];
     assert_eq!((e["ros_end"].as_str(), e["ros_status"].as_str()), (Some("timeout"), Some("CANCELED")), "{e}");
     eprintln!("{test}: {:.0} s", t0.elapsed().as_secs_f64());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Flags that do not go with `--agent ros2` (or only with it) are errors naming them, and a
+/// run without any stack in its domain ends with a timeout naming the action's status topic.
+#[test]
+fn agent_ros2_flag_errors_and_a_missing_stack_are_clear() {
+    let dir = temp_dir("ros2_bench_errors");
+    let eps = dir.join("eps.json.gz");
+    let (out, text) = run(xhab().args(["episodes", "procedural:5", "--count", "1", "--seed", "3", "--out"]).arg(&eps));
+    assert!(out.status.success(), "xhab episodes: {text}");
+    let base = |agent: &str| {
+        let mut c = xhab();
+        c.args(["bench", "--scene", "procedural:5", "--agent", agent, "--quiet", "--ros-timeout", "2"]).arg("--episodes").arg(&eps);
+        c
+    };
+    let (out, text) = run(base("ros2").args(["--ros-arg", "scan:=base_scan"]));
+    assert!(!out.status.success() && text.contains("--ros-args"), "{text}");
+    let (out, text) = run(base("ros").args(["--ros-args", "-r", "scan:=base_scan"]));
+    assert!(!out.status.success() && text.contains("--ros-args is for --agent ros2"), "{text}");
+    let (out, text) = run(base("ros2").args(["--ros-args", "-r"]));
+    assert!(!out.status.success() && text.contains("-r"), "{text}");
+    let mut c = base("ros2");
+    c.args(["--ros-args", "-r", "__ns:=/robot7"]);
+    xhab_ros2_env(&mut c, &domain_id(64));
+    let t0 = Instant::now();
+    let (out, text) = run(&mut c);
+    assert!(!out.status.success() && text.contains("no navigation stack answered on /robot7/navigate_to_pose/_action/status within 2 s"), "{text}");
+    assert!(t0.elapsed().as_secs_f64() < 30.0, "the missing stack took {:.0} s to report", t0.elapsed().as_secs_f64());
     let _ = std::fs::remove_dir_all(&dir);
 }
