@@ -348,3 +348,103 @@ mod tests {
         assert!(matches!(GoalEnd::navigator_abort(None), GoalEnd::Aborted(9000, _)));
     }
 }
+
+#[cfg(test)]
+mod dds_tests {
+    //! The server against ros2-client's action client over DDS on loopback (a domain of the
+    //! test's own in 101..=150).
+    use super::*;
+    use crate::ros::names::Names;
+    use crate::ros2::node::Ros2Config;
+    use ros2_client::action::{ActionClient, ActionClientQosPolicies};
+    use std::time::{Duration, Instant};
+
+    type Client = ActionClient<NavigateToPoseGoal, NavigateToPoseResult, NavigateToPoseFeedback>;
+
+    fn goal(x: f64) -> NavigateToPoseGoal {
+        NavigateToPoseGoal { pose: gm::PoseStamped { header: cv::header(1.0, "map"), pose: cv::pose(xhab_types::Pose2::new(x, 0.0, 0.0), 0.0) }, behavior_tree: String::new() }
+    }
+
+    /// Polls the server until it yields a request, up to 10 s.
+    fn next_request(server: &mut NavigateServer, now: f64) -> Request {
+        let t = Instant::now();
+        loop {
+            if let Some(r) = server.poll(now).unwrap().into_iter().next() {
+                return r;
+            }
+            assert!(t.elapsed() < Duration::from_secs(10), "no request came");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    fn until<T>(what: &str, server: &mut NavigateServer, mut f: impl FnMut() -> Option<T>) -> T {
+        let t = Instant::now();
+        loop {
+            server.poll(9.0).unwrap();
+            if let Some(v) = f() {
+                return v;
+            }
+            assert!(t.elapsed() < Duration::from_secs(10), "{what} did not come");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    fn statuses(client: &Client, into: &mut std::collections::HashMap<[u8; 16], GoalStatusEnum>) {
+        while let Ok(Some(a)) = client.receive_status() {
+            for s in a.status_list {
+                into.insert(*s.goal_info.goal_id.uuid.as_bytes(), s.status);
+            }
+        }
+    }
+
+    #[test]
+    fn goals_preempt_end_and_cancel_as_nav2s_do() {
+        let config = Ros2Config { domain_id: 101 + (std::process::id() % 50) as u16, localhost_only: true };
+        let mut srv_node = Ros2Node::new(Names::plain("navigate_server_test"), config).unwrap();
+        let mut server = NavigateServer::new(&mut srv_node, "navigate_to_pose").unwrap();
+        let mut cli_node = Ros2Node::new(Names::plain("navigate_client_test"), config).unwrap();
+        let qos = ActionClientQosPolicies { goal_service: reliable_qos(10), result_service: reliable_qos(10), cancel_service: reliable_qos(10), feedback_subscription: reliable_qos(10), status_subscription: reliable_qos(50) };
+        let client: Client = cli_node.node.create_action_client(ServiceMapping::Enhanced, &Name::parse("/navigate_to_pose").unwrap(), &ActionTypeName::new("nav2_msgs", "NavigateToPose"), qos).unwrap();
+        // Discovery first: requests sent before the server's reader is matched are lost.
+        let p = cli_node.participant();
+        let t = Instant::now();
+        while !p.discovered_readers().iter().any(|r| r.subscription_topic_data.topic_name == "rq/navigate_to_pose/_action/send_goalRequest") {
+            assert!(t.elapsed() < Duration::from_secs(10), "the server was not discovered");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        std::thread::sleep(Duration::from_millis(300));
+
+        // A goal is accepted and executing; feedback reaches the client.
+        let (r1, id1) = client.send_goal(goal(1.0)).unwrap();
+        assert_eq!(next_request(&mut server, 2.0), Request::Goal(goal(1.0).pose));
+        assert!(until("the goal response", &mut server, || client.receive_goal_response(r1).unwrap()).accepted);
+        server.feedback(2.5, cv::pose(xhab_types::Pose2::new(0.5, 0.0, 0.0), 0.0), 0.5, 0.2, 1).unwrap();
+        let f = until("feedback", &mut server, || client.receive_feedback(id1).unwrap());
+        assert!((f.distance_remaining - 0.5).abs() < 1e-6 && f.number_of_recoveries == 1 && f.navigation_time.nanosec == 500_000_000, "{f:?}");
+
+        // A second goal preempts the first (ABORTED), and ends as the navigator says.
+        let (r2, id2) = client.send_goal(goal(2.0)).unwrap();
+        assert_eq!(next_request(&mut server, 3.0), Request::Goal(goal(2.0).pose));
+        assert!(until("the second goal response", &mut server, || client.receive_goal_response(r2).unwrap()).accepted);
+        server.finish(GoalEnd::navigator_abort(Some(AbortReason::NoProgress))).unwrap();
+        let req = client.request_result(id2).unwrap();
+        let res = until("the result", &mut server, || client.receive_result(req).unwrap());
+        assert_eq!((res.0, res.1.error_code), (GoalStatusEnum::Aborted, NavigateToPoseResult::FAILED_TO_MAKE_PROGRESS), "{res:?}");
+        let mut seen = std::collections::HashMap::new();
+        until("both goals' states", &mut server, || {
+            statuses(&client, &mut seen);
+            (seen.get(id1.uuid.as_bytes()) == Some(&GoalStatusEnum::Aborted) && seen.get(id2.uuid.as_bytes()) == Some(&GoalStatusEnum::Aborted)).then_some(())
+        });
+
+        // A third goal is cancelled: CANCELED, and the navigator is told to stop.
+        let (_, id3) = client.send_goal(goal(3.0)).unwrap();
+        assert_eq!(next_request(&mut server, 4.0), Request::Goal(goal(3.0).pose));
+        client.cancel_goal(id3).unwrap();
+        assert_eq!(next_request(&mut server, 4.5), Request::Cancel);
+        assert_eq!(server.current_goal(), None);
+        until("the cancelled state", &mut server, || {
+            statuses(&client, &mut seen);
+            (seen.get(id3.uuid.as_bytes()) == Some(&GoalStatusEnum::Canceled)).then_some(())
+        });
+    }
+}
