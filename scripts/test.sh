@@ -30,7 +30,7 @@ fi
 # Real ROS 2 for the interop tests: rclpy on Fast DDS and the message packages from PyPI
 # (cp311 wheels, so Python 3.11), in their own virtual environment; installed once.
 ros2_venv=.venv-ros2
-if ! "$ros2_venv/bin/python" -c 'import rclpy, sensor_msgs.msg, nav_msgs.msg, geometry_msgs.msg, rosgraph_msgs.msg' 2>/dev/null; then
+if ! "$ros2_venv/bin/python" -c 'import rclpy, sensor_msgs.msg, nav_msgs.msg, geometry_msgs.msg, rosgraph_msgs.msg, action_msgs.msg' 2>/dev/null; then
   py311=$(command -v python3.11 || true)
   if [ -z "$py311" ]; then
     echo "xhab test: python3.11 is needed for ROS 2's wheels (ros-kilted-rclpy)" >&2
@@ -38,7 +38,7 @@ if ! "$ros2_venv/bin/python" -c 'import rclpy, sensor_msgs.msg, nav_msgs.msg, ge
   fi
   "$py311" -m venv "$ros2_venv"
   "$ros2_venv/bin/pip" install -q 'ros-kilted-rclpy[fastrtps]' ros-kilted-std-msgs \
-    ros-kilted-geometry-msgs ros-kilted-sensor-msgs ros-kilted-nav-msgs
+    ros-kilted-geometry-msgs ros-kilted-sensor-msgs ros-kilted-nav-msgs ros-kilted-action-msgs
 fi
 
 # Shared third-party data (scenes, maps, episodes) lives beside the project.

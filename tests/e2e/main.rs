@@ -9,6 +9,7 @@ mod sensors;
 mod raster;
 mod ros_interop;
 mod ros2_interop;
+mod ros2_external;
 mod ros_names;
 mod ros_faults;
 mod ros_external;

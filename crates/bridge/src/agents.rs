@@ -33,6 +33,9 @@ pub enum AgentKind {
     /// An external ROS navigation stack, driven through its standard interfaces
     /// (`xhab bench --agent ros`).
     Ros,
+    /// An external ROS 2 navigation stack (Nav2, or any node offering `navigate_to_pose`),
+    /// driven through its standard interfaces (`xhab bench --agent ros2`).
+    Ros2,
 }
 
 impl AgentKind {
@@ -41,8 +44,12 @@ impl AgentKind {
     pub fn build(self) -> Option<Box<dyn DiscreteAgent>> {
         match self {
             AgentKind::Oracle => Some(Box::new(OracleAgent(ShortestPathFollower::new()))),
-            AgentKind::Nav | AgentKind::Ros => None,
+            AgentKind::Nav | AgentKind::Ros | AgentKind::Ros2 => None,
         }
+    }
+    /// Whether this is an external stack benchmarked over ROS (`ros`, `ros2`).
+    pub fn is_external(self) -> bool {
+        matches!(self, AgentKind::Ros | AgentKind::Ros2)
     }
     /// The name used on the command line and in reports.
     pub fn name(self) -> &'static str {
@@ -50,6 +57,7 @@ impl AgentKind {
             AgentKind::Oracle => "oracle",
             AgentKind::Nav => "nav",
             AgentKind::Ros => "ros",
+            AgentKind::Ros2 => "ros2",
         }
     }
 }

@@ -51,12 +51,13 @@ pub struct NavOptions {
     pub scans: Option<ScanKind>,
 }
 
-/// How `--agent ros` drives an external ROS 1 stack.
+/// How `--agent ros` (ROS 1) and `--agent ros2` (ROS 2) drive an external stack.
 #[derive(Debug, Clone)]
 pub struct ExternalSpec {
     /// The master (`http://HOST:PORT`); `None`: `$ROS_MASTER_URI`, or one started for the run.
     pub master: Option<String>,
-    /// The simulator node's ROS arguments: `from:=to` remappings, `__ns:=NS`, `__name:=N`.
+    /// The simulator node's ROS arguments: ROS 1's `from:=to` remappings, `__ns:=NS`,
+    /// `__name:=N`; with `--agent ros2`, ROS 2's (`-r from:=to`, `-r __ns:=/NS`, ...).
     pub ros_args: Vec<String>,
     /// How goals reach the stack.
     pub goal_interface: GoalInterface,
@@ -226,11 +227,11 @@ pub fn run_bench(o: &BenchOptions, progress: &BenchProgress<'_>) -> Result<Bench
 /// Ctrl-C from another thread); in-process runs check it before each episode.
 pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchProgress<'_>) -> Result<BenchRun, BenchError> {
     let mut env = o.env.clone();
-    if matches!(o.agent, AgentKind::Nav | AgentKind::Ros) && env.physics.is_none() {
+    if (o.agent == AgentKind::Nav || o.agent.is_external()) && env.physics.is_none() {
         env.physics = Some(PhysicsOptions::default());
     }
-    if o.agent == AgentKind::Ros && !matches!(o.transport, Transport::InProcess) {
-        return Err(BenchError::Options("--agent ros already runs over ROS: drop --ros/--compare-ros".into()));
+    if o.agent.is_external() && !matches!(o.transport, Transport::InProcess) {
+        return Err(BenchError::Options(format!("--agent {} already runs over ROS: drop --ros/--compare-ros", o.agent.name())));
     }
     let setup = EnvSetup::build(&env)?;
     let mut dataset = setup::read_episodes(&o.episodes)?;
@@ -241,7 +242,7 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
     let progress: &(dyn Fn() + Sync) = &tick;
     let mut warnings = Vec::new();
     let robot = setup.physics.as_ref().map(|p| &p.profile);
-    let needs_scans = matches!(o.agent, AgentKind::Nav | AgentKind::Ros);
+    let needs_scans = o.agent == AgentKind::Nav || o.agent.is_external();
     let scan = if needs_scans { scan_source(o, &env, &setup)? } else { None };
     let nav = match o.agent {
         AgentKind::Nav => {
@@ -253,7 +254,7 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
             let map = static_map(o)?.map(Arc::new);
             Some(NavSetup { params, map, localization: o.nav.localization, scan: scan.clone(), scan_period: 0.1 })
         }
-        AgentKind::Oracle | AgentKind::Ros => None,
+        AgentKind::Oracle | AgentKind::Ros | AgentKind::Ros2 => None,
     };
     let mut cfg = setup.run_config(o.agent, o.threads, o.seed);
     cfg.record_trajectories = o.record_trajectories;
@@ -269,12 +270,32 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
             let out = run_dataset_external(world.clone(), &dataset, &cfg, &ext, progress).map_err(BenchError::External)?;
             (BenchReport::new(&out, t0.elapsed().as_secs_f64(), &cfg, o.agent.name(), &scene, &file, true), out)
         }
+        AgentKind::Ros2 => {
+            let ext = external_options(o, static_map(o)?, scan)?;
+            let t0 = Instant::now();
+            let out = run_ros2_external(world.clone(), &dataset, &cfg, &ext, progress)?;
+            (BenchReport::new(&out, t0.elapsed().as_secs_f64(), &cfg, o.agent.name(), &scene, &file, true), out)
+        }
         _ => run_transport(o, &world, &dataset, &cfg, &scene, &file, cancel, progress)?,
     };
     for i in &report.invalid.reasons {
         warnings.push(format!("episode {} is invalid and left out: {}", i.episode_id, i.reason));
     }
     Ok(BenchRun { report, outcomes, world, dataset, renderer_note: setup.renderer_note.clone(), warnings })
+}
+
+/// `--agent ros2`: the external ROS 2 stack's run, in the DDS domain of the environment
+/// (`ROS_DOMAIN_ID`, `ROS_AUTOMATIC_DISCOVERY_RANGE`).
+#[cfg(feature = "ros2")]
+fn run_ros2_external(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, ext: &ExternalOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, BenchError> {
+    let config = crate::ros2::node::Ros2Config::from_env(|k| std::env::var(k).ok()).map_err(BenchError::External)?;
+    crate::ros2::external::run_dataset_external(world, ds, cfg, ext, config, progress).map_err(BenchError::External)
+}
+
+/// `--agent ros2` without the `ros2` feature: an error saying so.
+#[cfg(not(feature = "ros2"))]
+fn run_ros2_external(_: Arc<World>, _: &Dataset, _: &RunConfig, _: &ExternalOptions, _: &(dyn Fn() + Sync)) -> Result<Vec<Outcome>, BenchError> {
+    Err(BenchError::Options("--agent ros2: this build of xhab-bridge has no ROS 2 (feature `ros2`)".into()))
 }
 
 /// Keeps the episodes at `indices` (ascending, in range) in `ds`; their indices in the file,
@@ -365,7 +386,7 @@ fn scan_source(o: &BenchOptions, env: &EnvOptions, s: &EnvSetup) -> Result<Optio
     })
 }
 
-/// How `--agent ros` drives the stack under test, checked.
+/// How `--agent ros`/`ros2` drives the stack under test, checked.
 fn external_options(o: &BenchOptions, map: Option<OccupancyGrid>, scan: Option<ScanSource>) -> Result<ExternalOptions, BenchError> {
     let e = &o.external;
     let positive = |x: f64| x > 0.0 && x.is_finite();
@@ -377,7 +398,7 @@ fn external_options(o: &BenchOptions, map: Option<OccupancyGrid>, scan: Option<S
     Ok(ExternalOptions {
         master: e.master.clone().or_else(|| env_var("ROS_MASTER_URI")),
         timeout: o.ros_timeout,
-        names: Names::from_args("xhab_sim", &e.ros_args, env_var("ROS_NAMESPACE").as_deref()).map_err(BenchError::Names)?,
+        names: external_names(o.agent, &e.ros_args, env_var("ROS_NAMESPACE").as_deref()).map_err(BenchError::Names)?,
         goal_interface: e.goal_interface,
         episode_timeout: e.episode_timeout,
         map_odom: e.map_odom,
@@ -388,6 +409,17 @@ fn external_options(o: &BenchOptions, map: Option<OccupancyGrid>, scan: Option<S
         scan,
         scan_period: 0.1,
     })
+}
+
+/// The simulator node's names: ROS 1's `from:=to` arguments, or (`--agent ros2`) ROS 2's
+/// `--ros-args -r from:=to ...`.
+fn external_names(agent: AgentKind, args: &[String], ns: Option<&str>) -> Result<Names, NameError> {
+    #[cfg(feature = "ros2")]
+    if agent == AgentKind::Ros2 {
+        return crate::ros2::node::names_from_ros_args("xhab_sim", args, ns);
+    }
+    let _ = agent;
+    Names::from_args("xhab_sim", args, ns)
 }
 
 /// How a run over ROS compares with the same run in-process.

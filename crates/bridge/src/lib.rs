@@ -16,6 +16,7 @@ pub mod benchmark;
 mod camera_capture;
 pub mod demo;
 pub mod explore;
+pub mod external_stack;
 pub mod exploration_run;
 pub mod global_localization;
 pub mod gym;

@@ -240,6 +240,11 @@ impl Navigator {
         self.progress_mark = (now, Point2::new(f64::NAN, f64::NAN));
     }
 
+    /// Recoveries run for the current goal.
+    pub fn recoveries(&self) -> u32 {
+        self.recoveries
+    }
+
     /// The current global plan.
     pub fn plan(&self) -> &[Pose2] {
         &self.plan

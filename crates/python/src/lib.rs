@@ -756,7 +756,8 @@ fn bench_builtin(py: Python<'_>, scene: &str, episodes: PathBuf, agent: &str, th
         "oracle" => AgentKind::Oracle,
         "nav" => AgentKind::Nav,
         "ros" => AgentKind::Ros,
-        _ => return Err(PyValueError::new_err(format!("agent '{agent}': unknown (oracle, nav, ros)"))),
+        "ros2" => AgentKind::Ros2,
+        _ => return Err(PyValueError::new_err(format!("agent '{agent}': unknown (oracle, nav, ros, ros2)"))),
     };
     o.env = env_options(scene, options)?;
     o.threads = threads.max(1);

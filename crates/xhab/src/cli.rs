@@ -513,14 +513,20 @@ pub enum AgentArg {
     /// An external ROS navigation stack (move_base + amcl, a rospy node, `xhab ros nav`),
     /// driven through tf, /clock, initialpose, the move_base action and cmd_vel.
     Ros,
+    /// An external ROS 2 navigation stack (Nav2, or any node offering `navigate_to_pose`;
+    /// `xhab ros2 nav`), driven through tf, /clock, initialpose, the navigate_to_pose action
+    /// and cmd_vel over DDS (domain: $ROS_DOMAIN_ID).
+    #[value(name = "ros2")]
+    Ros2,
 }
 
 /// How goals reach an external stack.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum GoalInterfaceArg {
-    /// The move_base action (move_base_msgs/MoveBaseAction).
+    /// The stack's action: move_base (ROS 1), navigate_to_pose (ROS 2).
     Action,
-    /// move_base_simple/goal (the outcome is read from move_base/status).
+    /// The goal topic: move_base_simple/goal with the outcome read from move_base/status
+    /// (ROS 1); goal_pose with the outcome read from navigate_to_pose/_action/status (ROS 2).
     Simple,
 }
 
@@ -635,32 +641,36 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 30.0, help_heading = "ROS")]
     pub ros_timeout: f64,
     /// How goals reach the stack under test (`--agent ros`).
-    #[arg(long, value_enum, default_value_t = GoalInterfaceArg::Action, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, value_enum, default_value_t = GoalInterfaceArg::Action, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub goal_interface: GoalInterfaceArg,
     /// A command that starts the stack (`sh -c CMD`, once the master has /use_sim_time; stopped at the end).
-    #[arg(long, value_name = "CMD", help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, value_name = "CMD", help_heading = "External ROS stack (--agent ros, ros2)")]
     pub launch: Option<String>,
     /// Simulated seconds after which an episode's goal is cancelled.
-    #[arg(long, default_value_t = 120.0, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, default_value_t = 120.0, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub episode_timeout: f64,
     /// Who publishes map -> odom: the stack (its amcl), or the simulator from ground truth.
-    #[arg(long, value_enum, default_value_t = MapOdomArg::Stack, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, value_enum, default_value_t = MapOdomArg::Stack, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub map_odom: MapOdomArg,
     /// How the clock follows the stack.
-    #[arg(long, value_enum, default_value_t = PaceArg::Lockstep, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, value_enum, default_value_t = PaceArg::Lockstep, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub pace: PaceArg,
     /// Simulated seconds per wall second with --pace realtime.
-    #[arg(long, default_value_t = 1.0, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, default_value_t = 1.0, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub rate: f64,
     /// Wall seconds to wait for cmd_vel after each tick with --pace lockstep.
-    #[arg(long, default_value_t = 0.5, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, default_value_t = 0.5, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub cmd_vel_grace: f64,
     /// ROS arguments of the simulator node, repeatable: `from:=to` remappings, `__ns:=NS`
     /// (`$ROS_NAMESPACE` is honoured too), e.g. to meet a stack running in a robot's namespace.
-    #[arg(long = "ros-arg", value_name = "FROM:=TO", help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long = "ros-arg", value_name = "FROM:=TO", help_heading = "External ROS stack (--agent ros, ros2)")]
     pub ros_args: Vec<String>,
+    /// ROS 2 arguments of the simulator node with --agent ros2, last on the line:
+    /// `--ros-args -r FROM:=TO -r __ns:=/NS -r __node:=NAME` (`$ROS_NAMESPACE` is honoured too).
+    #[arg(long = "ros-args", num_args = 0.., allow_hyphen_values = true, value_name = "ARGS", help_heading = "External ROS stack (--agent ros, ros2)")]
+    pub ros2_args: Option<Vec<String>>,
     /// Clock ticks per simulated second: set it to the stack's controller_frequency (Hz).
-    #[arg(long, default_value_t = 20.0, help_heading = "External ROS stack (--agent ros)")]
+    #[arg(long, default_value_t = 20.0, help_heading = "External ROS stack (--agent ros, ros2)")]
     pub controller_frequency: f64,
     #[command(flatten)]
     pub physics: PhysicsOpts,

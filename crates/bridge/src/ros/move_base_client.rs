@@ -4,20 +4,16 @@
 
 use super::convert as cv;
 use super::move_base_server::status;
-use super::msgs::{actionlib_msgs as al, geometry_msgs as gm, move_base_msgs as mb};
+use super::msgs::{actionlib_msgs as al, geometry_msgs as gm, move_base_msgs as mb, std_srvs};
 use super::node::{RosError, RosNode};
-use roslibrust::ros1::Publisher;
+use crate::external_stack::{GoalClient, GoalState};
+use roslibrust::ros1::{Publisher, ServiceClient};
 use std::collections::HashSet;
+use std::time::Duration;
 use tokio::sync::mpsc;
+use xhab_types::{Point3, Pose2};
 
-/// How goals reach the stack.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GoalInterface {
-    /// The `move_base` action (goal, cancel, status, result).
-    Action,
-    /// `move_base_simple/goal`; the stack's action status still tells how it ended.
-    Simple,
-}
+pub use crate::external_stack::GoalInterface;
 
 /// A goal's client: sends it, follows its status, cancels it.
 pub struct MoveBaseClient {
@@ -35,13 +31,24 @@ pub struct MoveBaseClient {
     pub state: Option<u8>,
     /// Whether any status message came from a server.
     pub server_seen: bool,
+    /// move_base's `clear_costmaps`, called before each episode while it answers (`None`:
+    /// not looked up yet; it is once the stack is up, before the first episode).
+    clear: Option<Option<ServiceClient<std_srvs::Empty>>>,
+    nh: roslibrust::ros1::NodeHandle,
+    clear_name: String,
+    status_name: String,
 }
 
 impl MoveBaseClient {
     /// Subscribes and advertises the action's topics under `move_base/` (and
     /// `move_base_simple/goal`).
     pub async fn new(node: &RosNode, interface: GoalInterface) -> Result<Self, RosError> {
+        let clear_name = node.names.resolve("move_base/clear_costmaps");
         Ok(Self {
+            clear: None,
+            nh: node.nh.clone(),
+            clear_name,
+            status_name: node.names.resolve("move_base/status"),
             interface,
             goal_pub: node.advertise("move_base/goal", false).await?,
             cancel_pub: node.advertise("move_base/cancel", false).await?,
@@ -129,4 +136,56 @@ impl MoveBaseClient {
         }
         self.state = None;
     }
+}
+
+impl GoalClient for MoveBaseClient {
+    async fn send(&mut self, id: &str, stamp: f64, position: Point3) -> Result<(), RosError> {
+        let target = gm::PoseStamped { header: cv::header(stamp, "map"), pose: cv::pose(Pose2::new(position.x, position.y, 0.0), position.z) };
+        MoveBaseClient::send(self, id, stamp, target).await
+    }
+
+    async fn resend(&mut self) -> Result<(), RosError> {
+        MoveBaseClient::resend(self).await
+    }
+
+    fn absorb(&mut self) -> Option<GoalState> {
+        MoveBaseClient::absorb(self).map(goal_state)
+    }
+
+    fn state(&self) -> Option<GoalState> {
+        self.state.map(goal_state)
+    }
+
+    fn server_seen(&self) -> bool {
+        self.server_seen
+    }
+
+    async fn cancel(&mut self) -> Result<(), RosError> {
+        MoveBaseClient::cancel(self).await
+    }
+
+    fn clear(&mut self) {
+        MoveBaseClient::clear(self)
+    }
+
+    async fn before_episode(&mut self) {
+        if self.clear.is_none() {
+            self.clear = Some(self.nh.service_client::<std_srvs::Empty>(&self.clear_name).await.ok());
+        }
+        if let Some(Some(c)) = self.clear.as_ref() {
+            if tokio::time::timeout(Duration::from_secs(2), c.call(&std_srvs::EmptyRequest {})).await.map_or(true, |r| r.is_err()) {
+                tracing::warn!("{} did not answer: costmaps are not cleared between episodes", self.clear_name);
+                self.clear = Some(None);
+            }
+        }
+    }
+
+    fn status_topic(&self) -> String {
+        self.status_name.clone()
+    }
+}
+
+/// An actionlib status code as a transport-neutral state.
+fn goal_state(s: u8) -> GoalState {
+    GoalState { name: status::name(s), terminal: status::is_terminal(s), succeeded: s == status::SUCCEEDED }
 }

@@ -107,7 +107,15 @@ pub mod builtin_interfaces {
         /// Nanoseconds past `sec` (ns, < 1e9).
         pub nanosec: u32,
     }
-    ros_type!("builtin_interfaces", Time);
+    /// builtin_interfaces/Duration: a span of seconds and nanoseconds (in [0, 1e9)).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+    pub struct Duration {
+        /// Whole seconds (s).
+        pub sec: i32,
+        /// Nanoseconds past `sec` (ns, < 1e9).
+        pub nanosec: u32,
+    }
+    ros_type!("builtin_interfaces", Time, Duration);
 }
 
 /// std_msgs: the header and the plain values xhab uses.
@@ -418,6 +426,10 @@ pub mod nav_msgs {
     }
     ros_type!("nav_msgs", Odometry, MapMetaData, OccupancyGrid);
 }
+
+// Actions: unique_identifier_msgs, action_msgs, nav2_msgs (NavigateToPose).
+mod actions;
+pub use actions::{action_msgs, nav2_msgs, unique_identifier_msgs};
 
 /// tf2_msgs: transforms.
 pub mod tf2_msgs {

@@ -1,7 +1,9 @@
 //! The native navigation stack as a ROS 2 node, with Nav2's names. In: `scan`, `odom`, `map`
 //! (and `amcl/map`, transient local), `/tf` and `/tf_static`, `initialpose`, `goal_pose`,
 //! `ground_truth/pose` (with `--localization ground_truth`). Out: `cmd_vel`, `amcl_pose`
-//! (transient local, as Nav2's amcl), `/tf` map -> odom (only when it localises).
+//! (transient local, as Nav2's amcl), `/tf` map -> odom (only when it localises). Serves
+//! the `navigate_to_pose` action ([`super::navigate_action`]), which also reports the fate
+//! of `goal_pose` goals.
 //!
 //! It runs a controller step on each odometry message at least one controller period (sim
 //! time, from the stamps) after the last, with the newest scan: the same `NavBrain` as
@@ -10,6 +12,8 @@
 
 use super::convert as cv;
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, tf2_msgs, RosType};
+use super::msgs::nav2_msgs::NavigateToPoseResult;
+use super::navigate_action::{distance_remaining, GoalEnd, NavigateServer, Request};
 use super::node::{command_qos, latched_qos, reliable_qos, sensor_data_qos, Ros2Config, Ros2Node};
 use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, INITIAL_STD_XY, INITIAL_STD_YAW};
 use crate::ros::names::Names;
@@ -79,6 +83,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let inits = node.subscription::<gm::PoseWithCovarianceStamped>("initialpose", command_qos())?;
     let goals = node.subscription::<gm::PoseStamped>("goal_pose", command_qos())?;
     let truths = node.subscription::<gm::PoseStamped>("ground_truth/pose", command_qos())?;
+    let mut action = NavigateServer::new(&mut node, "navigate_to_pose")?;
 
     // Without its own localiser the node reads map -> odom from tf (someone else's amcl, or
     // the simulator's ground truth); it then steers by that pose.
@@ -100,6 +105,12 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let mut pending_scan: Option<sensor_msgs::LaserScan> = None;
     let mut truth: Option<Pose2> = None;
     loop {
+        // Odometry first: what a peer sent before it (the tick's scan and tf, `initialpose`,
+        // a goal) has arrived by then and is taken below, whatever the threads' timing.
+        let od_now = drain(&odoms, "odom").pop();
+        // A goal starts at the first odometry taken after it (never at one that came along
+        // with it, which may have been sent before it).
+        let goal_due = goal_pending;
         for m in drain(&tf_statics, "/tf_static").into_iter().chain(drain(&tfs, "/tf")) {
             for t in &m.transforms {
                 buffer.insert_edge(&t.header.frame_id, &t.child_frame_id, cv::pose2_of_transform(&t.transform));
@@ -138,23 +149,54 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             }
             let spread = (ip.pose.covariance[0].max(0.0).sqrt(), ip.pose.covariance[35].max(0.0).sqrt());
             init = Some((p, spread, cv::seconds(&ip.header.stamp)));
-            if let (Some(b), Some((_, o))) = (brain.as_mut(), last_odom) {
+            // With the odometry of this instant when it came along (an episode's start).
+            if let (Some(b), Some(o)) = (brain.as_mut(), od_now.as_ref().map(|o| cv::pose2(&o.pose.pose)).or(last_odom.map(|l| l.1))) {
                 b.set_initial_pose(p, o, spread);
             }
             tracing::info!("initial pose ({:.2}, {:.2}, {:.2})", p.x, p.y, p.yaw);
         }
         let m2o = brain.as_ref().map_or(Pose2::default(), |b| b.map_to_odom());
-        for g in drain(&goals, "goal_pose") {
-            match goal_in_map(&buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
-                Some(p) if p.x.is_finite() && p.y.is_finite() => {
-                    goal = Some(p);
-                    goal_pending = true;
+        // Goals from `goal_pose` (adopted by the action), then the action's requests in order
+        // (`None`: the current goal was cancelled).
+        let now_s = last_odom.map_or(0.0, |o| o.0);
+        let topic = drain(&goals, "goal_pose").into_iter().map(|g| (Some(g), true));
+        let requests = action.poll(now_s)?.into_iter().map(|r| match r {
+            Request::Goal(g) => (Some(g), false),
+            Request::Cancel => (None, false),
+        });
+        for (g, from_topic) in topic.chain(requests).collect::<Vec<_>>() {
+            let refused = match g {
+                None => Some(None),
+                Some(g) => match goal_in_map(&buffer, &g.header.frame_id, cv::pose2(&g.pose), m2o) {
+                    Some(p) if p.x.is_finite() && p.y.is_finite() => {
+                        goal = Some(p);
+                        goal_pending = true;
+                        if from_topic {
+                            action.adopt(now_s)?;
+                        }
+                        None
+                    }
+                    Some(_) => Some(Some((NavigateToPoseResult::UNKNOWN, "a goal with a non-finite position".to_string()))),
+                    None => Some(Some((NavigateToPoseResult::TF_ERROR, format!("a goal in frame '{}': no transform to map", g.header.frame_id)))),
+                },
+            };
+            match refused {
+                None => {}
+                Some(Some((code, why))) if from_topic => tracing::warn!("{why} ignored (code {code})"),
+                Some(end) => {
+                    // The action's goal replaced the old one: the base stops.
+                    if let Some((code, why)) = end {
+                        tracing::warn!("{why}: aborted");
+                        action.finish(GoalEnd::Aborted(code, why))?;
+                    } else {
+                        tracing::info!("goal cancelled");
+                    }
+                    (goal, goal_pending) = (None, false);
+                    publish(&cmd_vel, "cmd_vel", cv::twist(Twist::default()))?;
                 }
-                Some(_) => tracing::warn!("goal_pose with a non-finite position ignored"),
-                None => tracing::warn!("goal in frame '{}' ignored: no transform to map", g.header.frame_id),
             }
         }
-        let Some(od) = drain(&odoms, "odom").pop() else {
+        let Some(od) = od_now else {
             tokio::time::sleep(POLL).await;
             continue;
         };
@@ -169,7 +211,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
         }
         let odom = cv::pose2(&od.pose.pose);
         last_odom = Some((now, odom));
-        if goal_pending {
+        if goal_pending && goal_due {
             if let (Some(g), Some(m)) = (goal, current_map.as_ref()) {
                 match brain.as_mut() {
                     Some(b) => b.set_goal(g, now),
@@ -189,7 +231,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             }
         }
         let Some(b) = brain.as_mut() else { continue };
-        if goal.is_none() || last_tick.is_some_and(|l| now < l + period - 1e-6) {
+        if goal.is_none() || goal_pending || last_tick.is_some_and(|l| now < l + period - 1e-6) {
             continue;
         }
         last_tick = Some(now);
@@ -216,12 +258,17 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             NavReply::Drive(tw) => tw,
             NavReply::Stop | NavReply::Abort => {
                 tracing::info!("goal {}", if r == NavReply::Stop { "reached" } else { "aborted: failed to reach it" });
+                action.finish(if r == NavReply::Stop { GoalEnd::Reached } else { GoalEnd::navigator_abort(b.abort_reason()) })?;
                 goal = None;
                 Twist::default()
             }
         };
         publish(&cmd_vel, "cmd_vel", cv::twist(tw))?;
         let m2o = b.map_to_odom();
+        if let Some(g) = goal {
+            let here = m2o.compose(odom);
+            action.feedback(now, cv::pose(here, 0.0), distance_remaining(b.navigator().plan(), here.position(), g), tw.linear, b.navigator().recoveries())?;
+        }
         if b.amcl().is_some() {
             publish(&tf_out, "/tf", tf2_msgs::TFMessage { transforms: vec![cv::tf(now, "map", "odom", cv::transform(m2o, 0.0))] })?;
             if let Some(a) = b.amcl().filter(|_| scan.is_some()) {

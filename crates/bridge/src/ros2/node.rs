@@ -146,6 +146,11 @@ impl Ros2Node {
         Ok((g, t))
     }
 
+    /// The node's DDS participant (a handle), to look at what discovery found.
+    pub fn participant(&self) -> ros2_client::dds::rustdds::DomainParticipant {
+        self._context.domain_participant()
+    }
+
     /// A publisher of `T` on `topic` (resolved with the node's names) with `qos`.
     pub fn publisher<T: RosType>(&mut self, topic: &str, qos: QosProfile) -> Result<Publisher<T>, RosError> {
         let (g, t) = self.topic::<T>(topic, &qos)?;

@@ -50,6 +50,7 @@ pub struct SimNode2 {
     rgb_info: Pub<sensor_msgs::CameraInfo>,
     cmd_vel: Subscription<gm::Twist>,
     action: Subscription<std_msgs::Int16>,
+    initialpose: Pub<gm::PoseWithCovarianceStamped>,
     laser_frame: String,
     /// How long to wait for a command in lock-step before failing.
     pub timeout: Duration,
@@ -78,6 +79,7 @@ impl SimNode2 {
             rgb_info: Pub::new(n, "camera/rgb/camera_info", sensor_data_qos())?,
             cmd_vel: n.subscription("cmd_vel", command_qos())?,
             action: n.subscription("action", command_qos())?,
+            initialpose: Pub::new(n, "initialpose", reliable_qos(10))?,
             laser_frame: laser_frame.to_string(),
             timeout,
             node,
@@ -186,5 +188,34 @@ impl SimTransport for SimNode2 {
             }
         }
         last
+    }
+}
+
+/// What benchmarking an external stack needs beyond the simulator's loop (`xhab bench --agent
+/// ros2`): the clock alone, `initialpose`, and waiting for `cmd_vel`.
+impl crate::external_stack::StackSim for SimNode2 {
+    async fn publish_clock(&self, stamp: f64) -> Result<(), RosError> {
+        SimNode2::publish_clock(self, stamp).await
+    }
+
+    async fn publish_initialpose(&self, stamp: f64, p: Pose2, xy_std: f64, yaw_std: f64) -> Result<(), RosError> {
+        self.initialpose.publish(cv::pose_with_covariance(stamp, p, xy_std, yaw_std)).await
+    }
+
+    async fn cmd_vel_within(&mut self, grace: Duration) -> Option<xhab_types::Twist> {
+        let deadline = tokio::time::Instant::now() + grace;
+        loop {
+            for _ in 0..MAX_BAD_SAMPLES {
+                match self.cmd_vel.take() {
+                    Ok(Some((m, _))) => return Some(cv::twist2(&m)),
+                    Ok(None) => break,
+                    Err(e) => tracing::warn!("cmd_vel: a message that does not decode was dropped: {e}"),
+                }
+            }
+            if tokio::time::Instant::now() >= deadline {
+                return None;
+            }
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
     }
 }

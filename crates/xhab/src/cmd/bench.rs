@@ -76,11 +76,18 @@ fn bench_options(a: &BenchArgs) -> Result<BenchOptions> {
         AgentArg::Oracle => AgentKind::Oracle,
         AgentArg::Nav => AgentKind::Nav,
         AgentArg::Ros => AgentKind::Ros,
+        AgentArg::Ros2 => AgentKind::Ros2,
+    };
+    let ros_args = match (a.agent, &a.ros2_args) {
+        (AgentArg::Ros2, _) if !a.ros_args.is_empty() => anyhow::bail!("--agent ros2 takes ROS 2 arguments: --ros-args -r FROM:=TO ... (last on the line), not --ros-arg"),
+        (AgentArg::Ros2, r) => r.clone().unwrap_or_default(),
+        (_, Some(_)) => anyhow::bail!("--ros-args is for --agent ros2 (ROS 1's stack takes --ros-arg FROM:=TO)"),
+        (_, None) => a.ros_args.clone(),
     };
     let mut env = EnvOptions::new(a.scene.clone());
     env.scene_options = scene_options(&a.scene_opts);
     // The nav and ros agents drive with velocities: under physics, with --robot.
-    env.physics = (a.physics.physics || matches!(a.agent, AgentArg::Nav | AgentArg::Ros)).then(|| physics_options(&a.physics));
+    env.physics = (a.physics.physics || matches!(a.agent, AgentArg::Nav | AgentArg::Ros | AgentArg::Ros2)).then(|| physics_options(&a.physics));
     env.sensors = a.sensors.clone();
     env.camera = super::render::camera_options(&a.camera);
     env.depth_noise = a.depth_noise;
@@ -117,7 +124,7 @@ fn bench_options(a: &BenchArgs) -> Result<BenchOptions> {
         ros_timeout: Duration::from_secs_f64(a.ros_timeout.max(0.1)),
         external: ExternalSpec {
             master: a.ros_master.clone(),
-            ros_args: a.ros_args.clone(),
+            ros_args,
             goal_interface: match a.goal_interface {
                 GoalInterfaceArg::Action => GoalInterface::Action,
                 GoalInterfaceArg::Simple => GoalInterface::Simple,
@@ -160,7 +167,7 @@ fn finish(a: &BenchArgs, run: &BenchRun) -> Result<()> {
     Ok(())
 }
 
-/// How an external stack's episodes ended (`--agent ros`): terminal action states and why
+/// How an external stack's episodes ended (`--agent ros`, `ros2`): terminal action states and why
 /// each episode stopped (the failures line above counts them by Habitat's causes only).
 fn print_ros_ends(report: &BenchReport) {
     let mut states: std::collections::BTreeMap<&str, usize> = Default::default();
