@@ -9,6 +9,7 @@ mod sensors;
 mod raster;
 mod ros_interop;
 mod ros2_interop;
+mod ros2_lockstep;
 mod ros_names;
 mod ros_external;
 mod gpu;

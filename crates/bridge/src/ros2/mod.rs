@@ -6,6 +6,11 @@
 //! [`msgs`]: the message types; [`convert`]: xhab's types to and from them; [`node`]: the
 //! DDS participant, QoS profiles, names and remapping (`--ros-args -r`); [`sim_node`]: the
 //! simulator node; [`live`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`.
+//!
+//! Lock-step between xhab's own nodes (`xhab bench --ros2`, `--compare-ros2`): [`xhab_msgs`]:
+//! xhab's lock-step messages; [`lockstep`]: the simulator's side and the stamp-keyed inbox;
+//! [`agent_node`]: `xhab ros2 agent`; [`nav_lockstep`]: `xhab ros2 nav --lockstep`;
+//! [`bench`]: the benchmark over ROS 2.
 
 pub mod convert;
 pub mod live;
@@ -13,3 +18,10 @@ pub mod msgs;
 pub mod nav_node;
 pub mod node;
 pub mod sim_node;
+
+// Lock-step between xhab's own nodes.
+pub mod agent_node;
+pub mod bench;
+pub mod lockstep;
+pub mod nav_lockstep;
+pub mod xhab_msgs;
