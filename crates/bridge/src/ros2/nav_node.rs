@@ -63,7 +63,7 @@ fn goal_in_map(buffer: &TfBuffer, frame: &str, p: Pose2, map_to_odom: Pose2) -> 
 
 /// Runs the node until the future is dropped. `map`: a static map (`--map`), else the one
 /// received on `map`; `amcl_map`: a static localisation map, else the one received on
-/// `amcl/map`, else the map.
+/// `amcl/map`, else the map. With `opts.lockstep`, the lock-step node of [`super::nav_lockstep`].
 pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>) -> Result<(), RosError> {
     if opts.lockstep {
         let (_keep, shutdown) = tokio::sync::watch::channel(false);
