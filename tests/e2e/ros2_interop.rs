@@ -235,7 +235,7 @@ fn ros2_names_remapping_and_qos_are_what_rclpy_sees() {
 
 /// A goal about `dist` m from `start` in the open: the first of 16 headings whose straight
 /// segment, and a margin past its end, stays on navigable cells.
-fn goal_in_the_open(grid: &xhab_sim::navgrid::NavGrid, start: Pose2, dist: f64) -> Option<xhab_types::Point2> {
+pub fn goal_in_the_open(grid: &xhab_sim::navgrid::NavGrid, start: Pose2, dist: f64) -> Option<xhab_types::Point2> {
     (0..16).find_map(|k| {
         let a = start.yaw + k as f64 * std::f64::consts::TAU / 16.0;
         let clear = (0..=((dist + 0.3) / 0.05) as usize).all(|i| {

@@ -1,11 +1,17 @@
 //! Lock-step over ROS 2 between xhab's own nodes (`xhab bench --compare-ros2`): the oracle and
 //! the nav agent give the same steps, metrics and abort reasons over DDS as in-process; a
-//! simulator whose agent never appears fails with a clear error, not a hang. No rclpy needed:
-//! both ends are xhab's (RustDDS).
+//! simulator whose agent never appears fails with a clear error, not a hang. No rclpy needed
+//! there: both ends are xhab's (RustDDS). `xhab ros2 agent` beside `xhab ros2 sim --lockstep`,
+//! as separate processes, brings the robot to rclpy's `goal_pose`.
 
-use crate::common::xhab;
-use crate::ros2_interop::{domain_id, xhab_ros2_env};
+use crate::common::{repo_root, xhab};
+use crate::ros2_interop::{domain_id, goal_in_the_open, rclpy_env, ros2_python, xhab_ros2_env};
+use crate::ros_interop::Killed;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use xhab_bridge::ros::live::{LiveSim, SimSpec};
+use xhab_bridge::ros::names::Names;
+use xhab_bridge::setup::{CameraOptions, SceneOptions};
 
 fn tempdir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("xhab_test_{name}_{}", std::process::id()));
@@ -72,4 +78,51 @@ fn a_ros2_simulator_in_lockstep_without_its_agent_is_a_clear_error_not_a_hang() 
     assert!(t0.elapsed() < Duration::from_secs(20), "{:?}", t0.elapsed());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("within 2 s (lock-step)"), "{err}");
+}
+
+#[test]
+fn xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal() {
+    let name = "xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal";
+    let Some(py) = ros2_python(name) else { return };
+    // The discrete simulator's start, from its own sampling (seed 0), and a goal in the open.
+    let spec = SimSpec {
+        scene: "procedural:5".into(),
+        scene_options: SceneOptions::default(),
+        physics: None,
+        map: None,
+        amcl_map: None,
+        start: None,
+        publish_camera: false,
+        rgb: false,
+        camera: CameraOptions::default(),
+        depth_noise: 0.0,
+        edge_dropout: 0.0,
+        rate: 1.0,
+        period: 0.05,
+        duration: None,
+        seed: 0,
+        map_odom_ground_truth: false,
+        master: None,
+        names: Names::plain("xhab_sim"),
+        lockstep: true,
+        timeout: Duration::from_secs(1),
+    };
+    let probe = LiveSim::build(&spec).expect("simulator builds");
+    let goal = goal_in_the_open(&probe.grid, probe.options.start, 1.5).expect("an open direction from the start");
+    let domain = domain_id(45);
+    let mut sim = xhab();
+    sim.args(["ros2", "sim", "procedural:5", "--lockstep", "--ros-timeout", "120", "--duration", "600"]).stdout(Stdio::null()).stderr(Stdio::inherit());
+    xhab_ros2_env(&mut sim, &domain);
+    let _sim = Killed(sim.spawn().unwrap());
+    let mut agent = xhab();
+    agent.args(["ros2", "agent", "procedural:5", "--ros-args", "-r", "__node:=oracle"]).stdout(Stdio::null()).stderr(Stdio::inherit());
+    xhab_ros2_env(&mut agent, &domain);
+    let _agent = Killed(agent.spawn().unwrap());
+    let mut check = Command::new(&py);
+    check.arg(repo_root().join("tests/e2e/ros2/goal.py")).args([goal.x, goal.y, 0.3].map(|v| v.to_string()));
+    rclpy_env(&mut check, &domain);
+    let out = check.output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("PASS"), "xhab ros2 agent did not bring the lock-step simulator's robot to rclpy's goal_pose");
 }

@@ -295,8 +295,8 @@ pub struct Ros2Opts {
     /// Node name.
     #[arg(long, help_heading = "ROS 2")]
     pub name: Option<String>,
-    /// Lock-step: `sim` waits for one command per cycle; `nav` answers each `xhab/step` of
-    /// xhab's simulator on `xhab/step_reply` (as in `xhab bench --ros2`).
+    /// Lock-step: `sim` waits for one command per cycle; `nav` and `agent` answer each
+    /// `xhab/step` of xhab's simulator on `xhab/step_reply` (as in `xhab bench --ros2`).
     #[arg(long, help_heading = "ROS 2")]
     pub lockstep: bool,
     /// Seconds to wait for a command in lock-step before failing.

@@ -34,15 +34,17 @@ pub struct Agent2Options {
     pub config: Ros2Config,
     /// How long to wait for a peer (lock-step).
     pub timeout: Duration,
+    /// Answer xhab's lock-step protocol (`xhab/step`) instead of running free.
+    pub lockstep: bool,
 }
 
-/// Loads the scene and runs the oracle as a free-running ROS 2 node in the foreground until
-/// Ctrl-C (`xhab ros2 agent`).
+/// Loads the scene and runs the oracle as a ROS 2 node (free-running, or in lock-step) in the
+/// foreground until Ctrl-C (`xhab ros2 agent`).
 pub fn serve(o: &Agent2Options) -> Result<(), AgentNodeError> {
     let world = Arc::new(setup::load_world(&o.scene, &o.scene_options)?);
     let (_keep, shutdown) = tokio::sync::watch::channel(false);
     eprintln!("xhab: ROS 2 node {} in DDS domain {}{}", o.names.node_name(), o.config.domain_id, if o.config.localhost_only { " (localhost only)" } else { "" });
-    let node = run(o.names.clone(), o.config, world, AgentKind::Oracle, TaskConfig::default(), o.timeout, false, shutdown);
+    let node = run(o.names.clone(), o.config, world, AgentKind::Oracle, TaskConfig::default(), o.timeout, o.lockstep, shutdown);
     Ok(crate::ros::foreground::run_until_ctrl_c(node)?)
 }
 
@@ -61,6 +63,10 @@ pub async fn run(names: Names, config: Ros2Config, world: Arc<World>, kind: Agen
 
 type Agent = Box<dyn crate::agents::DiscreteAgent>;
 
+/// How long a free-running agent waits for a newer pose before it sends its action again
+/// (wall time).
+const ANSWER_AGAIN: Duration = Duration::from_secs(1);
+
 async fn run_free(mut node: Ros2Node, world: Arc<World>, mut agent: Agent, task: TaskConfig, mut shutdown: tokio::sync::watch::Receiver<bool>) -> Result<(), RosError> {
     let action = node.publisher::<std_msgs::Int16>("action", reliable_qos(10))?;
     let action_topic = node.names.resolve("action");
@@ -68,9 +74,11 @@ async fn run_free(mut node: Ros2Node, world: Arc<World>, mut agent: Agent, task:
     let goals = node.subscription::<gm::PoseStamped>("goal_pose", command_qos())?;
     let mut view: Option<EnvSnapshot> = None;
     let mut pose: Option<gm::PoseStamped> = None;
-    // The stamp of the last pose acted on: a simulator in lock-step publishes its state again
-    // while it waits, and one pose must get one action.
-    let mut acted: Option<(i32, u32)> = None;
+    // The stamp of the last pose acted on, when, and the action: a simulator in lock-step
+    // publishes its state again while it waits, and one pose gets one action, sent again only
+    // when the simulator still waits after ANSWER_AGAIN (the first actions of a run can reach
+    // no one before discovery has matched the simulator's subscription).
+    let mut acted: Option<((i32, u32), std::time::Instant, i16)> = None;
     loop {
         // A pose asks for an action; a goal starts an episode from the last pose.
         let fresh_goal = tokio::select! {
@@ -101,17 +109,21 @@ async fn run_free(mut node: Ros2Node, world: Arc<World>, mut agent: Agent, task:
         };
         let (Some(v), Some(m)) = (view.as_mut(), pose.as_ref()) else { continue };
         let key = stamp_key(&m.header.stamp);
-        if !fresh_goal && acted.is_some_and(|a| key <= a) {
-            continue;
-        }
-        acted = Some(key);
-        v.set_pose(cv::pose2(&m.pose));
-        let a = agent.act(v, None);
-        tracing::debug!("agent: action {a:?} at ({:.2}, {:.2})", v.pose().x, v.pose().y);
-        action.async_publish(std_msgs::Int16 { data: a as i16 }).await.map_err(|e| RosError::Node(format!("publishing on {action_topic}: {e}")))?;
-        if a == xhab_sim::action::Action::Stop {
-            view = None;
-        }
+        let data = match acted {
+            Some((k, at, a)) if !fresh_goal && key == k && at.elapsed() >= ANSWER_AGAIN => a,
+            Some((k, _, _)) if !fresh_goal && key <= k => continue,
+            _ => {
+                v.set_pose(cv::pose2(&m.pose));
+                let a = agent.act(v, None);
+                tracing::debug!("agent: action {a:?} at ({:.2}, {:.2})", v.pose().x, v.pose().y);
+                if a == xhab_sim::action::Action::Stop {
+                    view = None;
+                }
+                a as i16
+            }
+        };
+        acted = Some((key, std::time::Instant::now(), data));
+        action.async_publish(std_msgs::Int16 { data }).await.map_err(|e| RosError::Node(format!("publishing on {action_topic}: {e}")))?;
     }
 }
 

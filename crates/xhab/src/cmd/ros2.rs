@@ -36,7 +36,7 @@ pub fn run(c: &Ros2Command) -> Result<ExitCode> {
         Ros2Command::Agent(a) => {
             let config = Ros2Config::from_env(|k| std::env::var(k).ok())?;
             let timeout = Duration::from_secs_f64(a.ros2.ros_timeout.max(0.1));
-            let o = Agent2Options { scene: a.scene.clone(), scene_options: scene_options(&a.scene_opts), names: names(&a.ros2, "xhab_agent")?, config, timeout };
+            let o = Agent2Options { scene: a.scene.clone(), scene_options: scene_options(&a.scene_opts), names: names(&a.ros2, "xhab_agent")?, config, timeout, lockstep: a.ros2.lockstep };
             agent_node::serve(&o)?;
         }
     }
