@@ -51,6 +51,8 @@ async fn run_all(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &Ros2Be
         (AgentKind::Nav, None) => return Err(RosError::Protocol("the nav agent needs its navigation setup".into())),
         (kind, _) => tokio::spawn(super::agent_node::run(Names::plain("xhab_agent"), config, world.clone(), kind, cfg.task.clone(), timeout, true, stop_rx)),
     };
+    // Each node has its own participant: RustDDS 0.15 did not deliver between a writer and a
+    // reader of one participant (tried: the first step was never answered).
     let mut sim = LockstepSim2::new(Names::plain("xhab_sim"), config, &mounts(cfg).laser_frame, timeout)?;
     tracing::debug!("ros2 bench: nodes up in {:.3} s", t_start.elapsed().as_secs_f64());
     let (mut outcomes, ran) = match run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS 2", progress).await {
@@ -64,7 +66,15 @@ async fn run_all(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &Ros2Be
             return Err(e);
         }
     };
-    tracing::debug!("ros2 bench: episodes done at {:.3} s", t_start.elapsed().as_secs_f64());
+    let tm = sim.timing;
+    tracing::debug!(
+        "ros2 bench: episodes done at {:.3} s; {} steps: publishing {:.3} s, waiting for answers {:.3} s ({:.1} us a step)",
+        t_start.elapsed().as_secs_f64(),
+        tm.steps,
+        tm.publish_s,
+        tm.wait_s,
+        1e6 * (tm.publish_s + tm.wait_s) / tm.steps.max(1) as f64
+    );
     let _ = stop_tx.send(true);
     match agent.await {
         Ok(Ok(())) => {}

@@ -52,6 +52,20 @@ pub struct LockstepSim2 {
     replies: Subscription<xhab_msgs::StepReply>,
     reply_topic: String,
     answered: bool,
+    /// Where the steps' wall time went: publishing (state, frame, step) and waiting for the
+    /// answer (s), and the steps answered.
+    pub timing: StepTiming,
+}
+
+/// Wall time of the lock-step exchange, summed over a run's steps (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepTiming {
+    /// Publishing each step's state, frame and `xhab/step`.
+    pub publish_s: f64,
+    /// Waiting for `xhab/step_reply` (the round trip and the agent's own work).
+    pub wait_s: f64,
+    /// Steps answered.
+    pub steps: u64,
 }
 
 impl LockstepSim2 {
@@ -64,7 +78,7 @@ impl LockstepSim2 {
         let step = n.publisher(STEP_TOPIC, lockstep_qos())?;
         let replies = n.subscription(STEP_REPLY_TOPIC, lockstep_qos())?;
         let reply_topic = n.names.resolve(STEP_REPLY_TOPIC);
-        Ok(LockstepSim2 { sim, episode, step, replies, reply_topic, answered: false })
+        Ok(LockstepSim2 { sim, episode, step, replies, reply_topic, answered: false, timing: StepTiming::default() })
     }
 }
 
@@ -130,11 +144,14 @@ impl LockstepTransport for LockstepSim2 {
         let timeout = self.sim.timeout;
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
+            let t0 = std::time::Instant::now();
             self.sim.publish_state(st).await?;
             if let Some((cam, f)) = frame {
                 self.sim.publish_frame(st.stamp, cam, f).await?;
             }
             self.step.async_publish(msg).await.map_err(|e| perr(STEP_TOPIC, e))?;
+            let t1 = std::time::Instant::now();
+            self.timing.publish_s += (t1 - t0).as_secs_f64();
             let wait_until = if self.answered { deadline } else { deadline.min(tokio::time::Instant::now() + RESEND) };
             loop {
                 match tokio::time::timeout_at(wait_until, self.replies.async_take()).await {
@@ -143,6 +160,8 @@ impl LockstepTransport for LockstepSim2 {
                             tracing::debug!("sim: first lock-step answer");
                         }
                         self.answered = true;
+                        self.timing.wait_s += t1.elapsed().as_secs_f64();
+                        self.timing.steps += 1;
                         return answer(r);
                     }
                     Ok(Ok(_)) => {} // an answer to a resent earlier step
