@@ -10,6 +10,7 @@ mod raster;
 mod ros_interop;
 mod ros2_interop;
 mod ros2_external;
+mod ros2_lockstep;
 mod ros_names;
 mod ros_faults;
 mod ros_external;

@@ -104,6 +104,18 @@ pub enum Transport {
     Ros,
     /// In-process, then over ROS; the two must agree (`--compare-ros`).
     CompareRos,
+    /// xhab's agent and simulator as separate ROS 2 nodes in lock-step (`--ros2`), in the DDS
+    /// domain of `$ROS_DOMAIN_ID` (loopback only with `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`).
+    Ros2,
+    /// In-process, then over ROS 2; the two must agree (`--compare-ros2`).
+    CompareRos2,
+}
+
+impl Transport {
+    /// Whether the run is in-process, then remote, compared.
+    pub fn compares(&self) -> bool {
+        matches!(self, Transport::CompareRos | Transport::CompareRos2)
+    }
 }
 
 /// Everything one benchmark run needs, as `xhab bench`'s flags give it.
@@ -231,12 +243,12 @@ pub fn run_bench_until(o: &BenchOptions, cancel: &AtomicBool, progress: &BenchPr
         env.physics = Some(PhysicsOptions::default());
     }
     if o.agent.is_external() && !matches!(o.transport, Transport::InProcess) {
-        return Err(BenchError::Options(format!("--agent {} already runs over ROS: drop --ros/--compare-ros", o.agent.name())));
+        return Err(BenchError::Options(format!("--agent {} already runs over ROS: drop --ros/--compare-ros/--ros2/--compare-ros2", o.agent.name())));
     }
     let setup = EnvSetup::build(&env)?;
     let mut dataset = setup::read_episodes(&o.episodes)?;
     let selection = select_episodes(&mut dataset, o.episode_indices.as_deref(), &o.episodes)?;
-    let total = dataset.episodes.len() * if matches!(o.transport, Transport::CompareRos) { 2 } else { 1 };
+    let total = dataset.episodes.len() * if o.transport.compares() { 2 } else { 1 };
     let finished = AtomicUsize::new(0);
     let tick = || progress(finished.fetch_add(1, Ordering::Relaxed) + 1, total);
     let progress: &(dyn Fn() + Sync) = &tick;
@@ -323,6 +335,9 @@ fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
     if matches!(o.transport, Transport::InProcess) {
         return local();
     }
+    if matches!(o.transport, Transport::Ros2 | Transport::CompareRos2) {
+        return run_over_ros2(o, world, ds, cfg, scene, file, &local, progress);
+    }
     // The master is infrastructure, started (when not given) before the run is timed, as the
     // scene is loaded before the in-process run is.
     let master = match &o.ros_master {
@@ -343,6 +358,36 @@ fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
     r.aggregate.ros_overhead = Some(r.aggregate.wall_s / l.aggregate.wall_s.max(1e-9));
     r.ros_check = Some(compare_outcomes(&l_out, &r_out));
     Ok((r, r_out))
+}
+
+/// Runs xhab's own agent over ROS 2, or in-process and over ROS 2 (and compares them).
+#[allow(clippy::too_many_arguments)]
+fn run_over_ros2(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunConfig, scene: &str, file: &str, local: &dyn Fn() -> Result<(BenchReport, Vec<Outcome>), BenchError>, progress: &(dyn Fn() + Sync)) -> Result<(BenchReport, Vec<Outcome>), BenchError> {
+    #[cfg(feature = "ros2")]
+    {
+        use crate::ros2::bench::{run_dataset_ros2, Ros2BenchOptions};
+        use crate::ros2::node::Ros2Config;
+        let config = Ros2Config::from_env(|k| std::env::var(k).ok()).map_err(BenchError::Ros)?;
+        let opts = Ros2BenchOptions { config, timeout: o.ros_timeout };
+        let remote = || -> Result<(BenchReport, Vec<Outcome>), BenchError> {
+            let t0 = Instant::now();
+            let out = run_dataset_ros2(world.clone(), ds, cfg, &opts, progress).map_err(BenchError::Ros)?;
+            Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, cfg.agent.name(), scene, file, true), out))
+        };
+        if !o.transport.compares() {
+            return remote();
+        }
+        let (l, l_out) = local()?;
+        let (mut r, r_out) = remote()?;
+        r.aggregate.ros_overhead = Some(r.aggregate.wall_s / l.aggregate.wall_s.max(1e-9));
+        r.ros_check = Some(compare_outcomes(&l_out, &r_out));
+        Ok((r, r_out))
+    }
+    #[cfg(not(feature = "ros2"))]
+    {
+        let _ = (o, world, ds, cfg, scene, file, local, progress);
+        Err(BenchError::Options("--ros2/--compare-ros2: this xhab was built without ROS 2 (feature `ros2` of xhab-bridge)".into()))
+    }
 }
 
 /// Runs `cfg`'s agent in this process on every episode of `ds` in the loaded `world` and

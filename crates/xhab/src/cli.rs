@@ -272,6 +272,20 @@ pub enum Ros2Command {
     /// The native navigation stack as a ROS 2 node with Nav2's names (`goal_pose`,
     /// `initialpose`, `amcl_pose`; cmd_vel and tf map -> odom out).
     Nav(Ros2NavArgs),
+    /// A discrete Habitat-style agent node, the oracle (ground_truth/pose and goal_pose in,
+    /// action out).
+    Agent(Ros2AgentArgs),
+}
+
+/// `xhab ros2 agent`.
+#[derive(Debug, Args)]
+pub struct Ros2AgentArgs {
+    /// The scene (the oracle's privileged knowledge: its grid and geodesics).
+    pub scene: String,
+    #[command(flatten)]
+    pub scene_opts: SceneOpts,
+    #[command(flatten)]
+    pub ros2: Ros2Opts,
 }
 
 /// Options every ROS 2 node takes. The DDS domain is `$ROS_DOMAIN_ID`; discovery stays on
@@ -281,7 +295,8 @@ pub struct Ros2Opts {
     /// Node name.
     #[arg(long, help_heading = "ROS 2")]
     pub name: Option<String>,
-    /// Lock-step: each cycle waits for one command.
+    /// Lock-step: `sim` waits for one command per cycle; `nav` and `agent` answer each
+    /// `xhab/step` of xhab's simulator on `xhab/step_reply` (as in `xhab bench --ros2`).
     #[arg(long, help_heading = "ROS 2")]
     pub lockstep: bool,
     /// Seconds to wait for a command in lock-step before failing.
@@ -634,6 +649,12 @@ pub struct BenchArgs {
     /// Run in-process and over ROS, check that the results agree, report aggregate.ros_overhead.
     #[arg(long, help_heading = "ROS")]
     pub compare_ros: bool,
+    /// Run the agent and the simulator as separate ROS 2 nodes (DDS domain $ROS_DOMAIN_ID), in lock-step.
+    #[arg(long, help_heading = "ROS", conflicts_with_all = ["ros", "compare_ros"])]
+    pub ros2: bool,
+    /// Run in-process and over ROS 2, check that the results agree, report aggregate.ros_overhead.
+    #[arg(long, help_heading = "ROS", conflicts_with_all = ["ros", "compare_ros", "ros2"])]
+    pub compare_ros2: bool,
     /// The ROS master (http://HOST:PORT) [default: start `rosmaster` for the run].
     #[arg(long, value_name = "URI", help_heading = "ROS")]
     pub ros_master: Option<String>,

@@ -14,7 +14,7 @@ use xhab_sim::sensors::{CameraFrame, CameraParams, DepthNoise, Renderer};
 use xhab_types::{OccupancyGrid, Pose2, Twist};
 
 pub use crate::robot_io::{Command, Mounts, RobotState, DEPTH_OPTICAL_FRAME, RGB_OPTICAL_FRAME};
-use crate::robot_io::{render_frame, SimTransport, OPTICAL_ROTATION};
+use crate::robot_io::{render_frame, EpisodeStart, LockstepTransport, SimTransport, StepAnswer, OPTICAL_ROTATION};
 
 /// The topic of the map AMCL localises on when it differs from `map` (the scene cut at the
 /// laser's height, while `map` holds the body-band map for the costmap), as amcl's `map`
@@ -340,5 +340,35 @@ impl SimTransport for SimNode {
     }
     fn latest_command(&mut self) -> Option<Command> {
         SimNode::latest_command(self)
+    }
+}
+
+/// The announcement of a lock-step episode as xhab_msgs/Episode.
+fn episode_msg(e: &EpisodeStart) -> xhab_msgs::Episode {
+    let zero = cv::time(0.0);
+    xhab_msgs::Episode {
+        index: e.index,
+        episode_id: e.episode_id.clone(),
+        start: cv::time(e.start),
+        goal: gm::PoseStamped { header: cv::header(e.start, "map"), pose: cv::pose(e.goal, e.goal_z) },
+        initial_pose: cv::pose_with_covariance(e.start, e.initial_pose, e.initial_std.0, e.initial_std.1),
+        map_stamp: e.map_stamp.map_or(zero.clone(), cv::time),
+        amcl_map_stamp: e.amcl_map_stamp.map_or(zero, cv::time),
+    }
+}
+
+impl LockstepTransport for SimNode {
+    async fn publish_episode(&mut self, e: &EpisodeStart) -> Result<(), RosError> {
+        SimNode::publish_episode(self, &episode_msg(e)).await
+    }
+    async fn lockstep(&mut self, st: &RobotState<'_>, frame: Option<(&CameraParams, &CameraFrame)>, episode: u32, step: u32) -> Result<StepAnswer, RosError> {
+        let r = SimNode::lockstep(self, st, frame, episode, step).await?;
+        match r.kind {
+            xhab_msgs::StepReply::DRIVE => Ok(StepAnswer::Drive(cv::twist2(&r.twist))),
+            xhab_msgs::StepReply::ACTION => Ok(StepAnswer::Action(r.action)),
+            xhab_msgs::StepReply::STOP => Ok(StepAnswer::Stop),
+            xhab_msgs::StepReply::ABORT => Ok(StepAnswer::Abort(r.abort_reason)),
+            k => Err(RosError::Protocol(format!("{STEP_REPLY_TOPIC}: unknown reply kind {k} (DRIVE, ACTION, STOP or ABORT expected)"))),
+        }
     }
 }

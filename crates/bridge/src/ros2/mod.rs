@@ -8,6 +8,11 @@
 //! simulator node; [`live`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`, with its
 //! `navigate_to_pose` server [`navigate_action`]; [`external`]: `xhab bench --agent ros2`,
 //! with [`navigate_client`].
+//!
+//! Lock-step between xhab's own nodes (`xhab bench --ros2`, `--compare-ros2`): [`xhab_msgs`]:
+//! xhab's lock-step messages; [`lockstep`]: the simulator's side and the stamp-keyed inbox;
+//! [`agent_node`]: `xhab ros2 agent`; [`nav_lockstep`]: `xhab ros2 nav --lockstep`;
+//! [`bench`]: the benchmark over ROS 2.
 
 pub mod convert;
 pub mod external;
@@ -18,3 +23,10 @@ pub mod navigate_client;
 pub mod nav_node;
 pub mod node;
 pub mod sim_node;
+
+// Lock-step between xhab's own nodes.
+pub mod agent_node;
+pub mod bench;
+pub mod lockstep;
+pub mod nav_lockstep;
+pub mod xhab_msgs;

@@ -67,8 +67,12 @@ fn goal_in_map(buffer: &TfBuffer, frame: &str, p: Pose2, map_to_odom: Pose2) -> 
 
 /// Runs the node until the future is dropped. `map`: a static map (`--map`), else the one
 /// received on `map`; `amcl_map`: a static localisation map, else the one received on
-/// `amcl/map`, else the map.
+/// `amcl/map`, else the map. With `opts.lockstep`, the lock-step node of [`super::nav_lockstep`].
 pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Option<OccupancyGrid>, amcl_map: Option<OccupancyGrid>) -> Result<(), RosError> {
+    if opts.lockstep {
+        let (_keep, shutdown) = tokio::sync::watch::channel(false);
+        return super::nav_lockstep::run(names, config, opts, map, amcl_map, shutdown, None).await;
+    }
     let mut node = Ros2Node::new(names, config)?;
     let cmd_vel = node.publisher::<gm::Twist>("cmd_vel", reliable_qos(10))?;
     let tf_out = node.publisher::<tf2_msgs::TFMessage>("/tf", reliable_qos(100))?;

@@ -62,6 +62,12 @@ impl SimNode2 {
     /// Joins the domain of `config` as the node `names` with its topics; scans are stamped
     /// with `laser_frame`.
     pub fn new(names: Names, config: Ros2Config, laser_frame: &str, timeout: Duration) -> Result<SimNode2, RosError> {
+        Self::with_sensor_qos(names, config, laser_frame, timeout, sensor_data_qos())
+    }
+
+    /// [`SimNode2::new`] with `sensor` as the QoS of the scan and camera topics (reliable in
+    /// lock-step, where no step's scan may be lost; best-effort subscribers still match).
+    pub fn with_sensor_qos(names: Names, config: Ros2Config, laser_frame: &str, timeout: Duration, sensor: ros2_client::QosProfile) -> Result<SimNode2, RosError> {
         let mut node = Ros2Node::new(names, config)?;
         let n = &mut node;
         Ok(SimNode2 {
@@ -70,13 +76,13 @@ impl SimNode2 {
             tf_static: Pub::new(n, "/tf_static", latched_qos())?,
             odom: Pub::new(n, "odom", reliable_qos(10))?,
             truth: Pub::new(n, "ground_truth/pose", reliable_qos(10))?,
-            scan: Pub::new(n, "scan", sensor_data_qos())?,
+            scan: Pub::new(n, "scan", sensor.clone())?,
             map: Pub::new(n, "map", latched_qos())?,
             amcl_map: Pub::new(n, AMCL_MAP_TOPIC, latched_qos())?,
-            depth: Pub::new(n, "camera/depth/image_raw", sensor_data_qos())?,
-            depth_info: Pub::new(n, "camera/depth/camera_info", sensor_data_qos())?,
-            rgb: Pub::new(n, "camera/rgb/image_raw", sensor_data_qos())?,
-            rgb_info: Pub::new(n, "camera/rgb/camera_info", sensor_data_qos())?,
+            depth: Pub::new(n, "camera/depth/image_raw", sensor.clone())?,
+            depth_info: Pub::new(n, "camera/depth/camera_info", sensor.clone())?,
+            rgb: Pub::new(n, "camera/rgb/image_raw", sensor.clone())?,
+            rgb_info: Pub::new(n, "camera/rgb/camera_info", sensor.clone())?,
             cmd_vel: n.subscription("cmd_vel", command_qos())?,
             action: n.subscription("action", command_qos())?,
             initialpose: Pub::new(n, "initialpose", reliable_qos(10))?,

@@ -55,7 +55,8 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
         anyhow::bail!("no valid episode in {} ({} invalid, see the warnings above): every metric is undefined", a.episodes.display(), run.report.invalid.count);
     }
     if differ {
-        anyhow::bail!("--compare-ros: the run over ROS differs from the in-process run (see ros_check in the JSON)");
+        let flag = if a.compare_ros2 { "--compare-ros2" } else { "--compare-ros" };
+        anyhow::bail!("{flag}: the run over ROS differs from the in-process run (see ros_check in the JSON)");
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -115,10 +116,12 @@ fn bench_options(a: &BenchArgs) -> Result<BenchOptions> {
                 (false, ScanSourceArg::Depth) => Some(ScanKind::Depth),
             },
         },
-        transport: match (a.ros, a.compare_ros) {
-            (_, true) => BenchTransport::CompareRos,
-            (true, false) => BenchTransport::Ros,
-            (false, false) => BenchTransport::InProcess,
+        transport: match (a.ros, a.compare_ros, a.ros2, a.compare_ros2) {
+            (_, _, _, true) => BenchTransport::CompareRos2,
+            (_, _, true, false) => BenchTransport::Ros2,
+            (_, true, false, false) => BenchTransport::CompareRos,
+            (true, false, false, false) => BenchTransport::Ros,
+            (false, false, false, false) => BenchTransport::InProcess,
         },
         ros_master: a.ros_master.clone(),
         ros_timeout: Duration::from_secs_f64(a.ros_timeout.max(0.1)),

@@ -1,4 +1,4 @@
-//! `xhab ros2 sim|nav`: the simulator and the native stack as ROS 2 nodes. Parses the flags
+//! `xhab ros2 sim|nav|agent`: the simulator, the native stack and the oracle as ROS 2 nodes. Parses the flags
 //! into the library's specs (as `xhab ros sim|nav` do) and the DDS configuration from the
 //! environment, then runs the node.
 
@@ -7,6 +7,8 @@ use anyhow::Result;
 use std::process::ExitCode;
 use std::time::Duration;
 use xhab_bridge::ros::names::Names;
+use crate::scene_arg::scene_options;
+use xhab_bridge::ros2::agent_node::{self, Agent2Options};
 use xhab_bridge::ros2::live::run_live;
 use xhab_bridge::ros2::nav_node;
 use xhab_bridge::ros2::node::{names_from_ros_args, Ros2Config};
@@ -27,12 +29,15 @@ pub fn run(c: &Ros2Command) -> Result<ExitCode> {
             run_live(sim.grid.clone(), &sim.options, config)?;
         }
         Ros2Command::Nav(a) => {
-            if a.ros2.lockstep {
-                anyhow::bail!("--lockstep: xhab ros2 nav runs free (lock-step over ROS 2 is not built yet)");
-            }
             let config = Ros2Config::from_env(|k| std::env::var(k).ok())?;
-            let node = super::ros::build_nav(&a.nav, false, Duration::from_secs_f64(a.ros2.ros_timeout.max(0.1)))?;
+            let node = super::ros::build_nav(&a.nav, a.ros2.lockstep, Duration::from_secs_f64(a.ros2.ros_timeout.max(0.1)))?;
             nav_node::serve(names(&a.ros2, "xhab_nav")?, config, node)?;
+        }
+        Ros2Command::Agent(a) => {
+            let config = Ros2Config::from_env(|k| std::env::var(k).ok())?;
+            let timeout = Duration::from_secs_f64(a.ros2.ros_timeout.max(0.1));
+            let o = Agent2Options { scene: a.scene.clone(), scene_options: scene_options(&a.scene_opts), names: names(&a.ros2, "xhab_agent")?, config, timeout, lockstep: a.ros2.lockstep };
+            agent_node::serve(&o)?;
         }
     }
     Ok(ExitCode::SUCCESS)
