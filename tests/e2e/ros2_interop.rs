@@ -7,7 +7,7 @@ use crate::common::{repo_root, xhab};
 use crate::ros_interop::Killed;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
-use xhab_bridge::ros::live::{LiveSim, SimSpec};
+use xhab_bridge::ros::standalone_sim::{StandaloneSim, SimSpec};
 use xhab_bridge::ros::names::Names;
 use xhab_bridge::setup::{CameraOptions, PhysicsOptions, SceneOptions};
 use xhab_sim::sensors::{Lidar, RendererKind};
@@ -98,9 +98,9 @@ fn rclpy_receives_our_topics_and_drives_the_robot_over_ros2() {
     let name = "rclpy_receives_our_topics_and_drives_the_robot_over_ros2";
     let Some(py) = ros2_python(name) else { return };
     // A start in the open, from the simulator's own sampling, passed on the command line.
-    let probe = LiveSim::build(&SimSpec { start: None, ..spec(START) }).expect("simulator builds");
+    let probe = StandaloneSim::build(&SimSpec { start: None, ..spec(START) }).expect("simulator builds");
     let start = probe.options.start;
-    let sim = LiveSim::build(&spec(start)).expect("simulator builds");
+    let sim = StandaloneSim::build(&spec(start)).expect("simulator builds");
     let o = &sim.options;
     let domain = domain_id(1);
     let mut cmd = xhab();
@@ -250,7 +250,7 @@ pub fn goal_in_the_open(grid: &xhab_sim::navgrid::NavGrid, start: Pose2, dist: f
 fn rclpy_goal_pose_sends_xhab_ros2_nav_to_a_goal_it_reaches() {
     let name = "rclpy_goal_pose_sends_xhab_ros2_nav_to_a_goal_it_reaches";
     let Some(py) = ros2_python(name) else { return };
-    let probe = LiveSim::build(&SimSpec { start: None, publish_camera: false, rgb: false, ..spec(START) }).expect("simulator builds");
+    let probe = StandaloneSim::build(&SimSpec { start: None, publish_camera: false, rgb: false, ..spec(START) }).expect("simulator builds");
     let start = probe.options.start;
     let goal = goal_in_the_open(&probe.grid, start, 1.2).expect("an open direction from the start");
     let domain = domain_id(3);

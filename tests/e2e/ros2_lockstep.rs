@@ -9,7 +9,7 @@ use crate::ros2_interop::{domain_id, goal_in_the_open, rclpy_env, ros2_python, x
 use crate::ros_interop::Killed;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-use xhab_bridge::ros::live::{LiveSim, SimSpec};
+use xhab_bridge::ros::standalone_sim::{StandaloneSim, SimSpec};
 use xhab_bridge::ros::names::Names;
 use xhab_bridge::setup::{CameraOptions, SceneOptions};
 
@@ -107,7 +107,7 @@ fn xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal() {
         lockstep: true,
         timeout: Duration::from_secs(1),
     };
-    let probe = LiveSim::build(&spec).expect("simulator builds");
+    let probe = StandaloneSim::build(&spec).expect("simulator builds");
     let goal = goal_in_the_open(&probe.grid, probe.options.start, 1.5).expect("an open direction from the start");
     let domain = domain_id(45);
     let mut sim = xhab();

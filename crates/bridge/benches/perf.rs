@@ -15,7 +15,7 @@ use std::hint::black_box;
 use std::time::Duration;
 use xhab_bridge::setup::{self, CameraOptions, PhysicsOptions, SceneOptions};
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::sensors::{CameraParams, RendererKind};
 use xhab_sim::world::World;
@@ -68,7 +68,7 @@ fn bench_scene(c: &mut Criterion, name: &str, arg: &str) {
     });
 
     // Episodes from the sampled points, their starts built once.
-    let starts: Vec<Env> = (0..16)
+    let starts: Vec<KinematicEnv> = (0..16)
         .filter_map(|i| {
             let ep = Episode {
                 episode_id: i.to_string(),
@@ -79,7 +79,7 @@ fn bench_scene(c: &mut Criterion, name: &str, arg: &str) {
                 geodesic_distance: None,
                 info: serde_json::Value::Null,
             };
-            Env::new(grid.clone(), &ep, TaskConfig::default()).ok()
+            KinematicEnv::new(grid.clone(), &ep, TaskConfig::default()).ok()
         })
         .collect();
     assert!(!starts.is_empty(), "{name}: no valid episode");

@@ -4,7 +4,7 @@
 //! the estimate comes within `tolerance` of the truth before `max_travel` metres of travel.
 
 use crate::benchmark::{nav_params, ParamError, ParamFile};
-use crate::nav_agent::{episode_time, Localization, NavBrain, NavInputs, NavReply, NavSetup};
+use crate::nav_agent::{episode_time, Localization, NavStack, NavInputs, NavReply, NavSetup};
 use crate::runner::PhysicsSetup;
 use crate::scan_source::ScanSource;
 use crate::setup::{self, PhysicsOptions, SceneOptions, SetupError};
@@ -214,7 +214,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
     let new_goal = |rng: &mut rand_chacha::ChaCha8Rng, from: xhab_types::Point2| {
         (0..200).filter_map(|_| grid.sample_navigable_point(&cells, rng).map(|p| p.xy())).find(|p| grid.island_at(*p) == island && p.dist(from) > 1.0)
     };
-    let mut brain = NavBrain::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
+    let mut brain = NavStack::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let (mut travel, mut last) = (0.0, env.pose().position());
     let mut t0 = 0.0;
@@ -248,7 +248,7 @@ fn trial(world: &World, ep: &Episode, physics: &PhysicsSetup, setup: &NavSetup, 
                 if goals > 50 {
                     break;
                 }
-                brain = NavBrain::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
+                brain = NavStack::new(&drive, &map, &map, new_goal(&mut rng, env.pose().position())?, env.pose(), None, seed);
                 t0 = t;
             }
         }

@@ -15,7 +15,7 @@
 //! episodes, with the same noise, whatever its size and thread count.
 
 use crate::agents::AgentKind;
-use crate::runner::{capture, make_env, MadeEnv, RenderStats, RunConfig};
+use crate::runner::{capture, make_env, EpisodeEnv, RenderStats, RunConfig};
 use crate::setup::{generate, EnvSetup, SetupError};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -192,7 +192,7 @@ pub struct GymStep {
 
 /// The running episode.
 struct Current {
-    env: MadeEnv,
+    env: EpisodeEnv,
     episode_id: String,
     /// The episode's number for seeds: its dataset index, or its generated number.
     index: usize,
@@ -292,8 +292,8 @@ impl PointNav {
     /// The observation of the running episode now (the camera frame of its current step).
     fn observe(&self, cur: &Current) -> Result<GymObservation, GymError> {
         let env = match &cur.env {
-            MadeEnv::Plain(e) => e as &dyn xhab_sim::env::DiscreteEnv,
-            MadeEnv::Physics(e) => e,
+            EpisodeEnv::Plain(e) => e as &dyn xhab_sim::env::DiscreteEnv,
+            EpisodeEnv::Physics(e) => e,
         };
         let frame = match self.cfg.sensors.as_deref() {
             Some(rig) => Some(capture(rig, env.pose(), env.height(), self.cfg.seed, cur.index, cur.step, &mut RenderStats::default()).map_err(GymError::Render)?),
@@ -305,8 +305,8 @@ impl PointNav {
     /// Applies one of Habitat's discrete actions.
     pub fn step(&mut self, action: Action) -> Result<GymStep, GymError> {
         self.advance(|env| match env {
-            MadeEnv::Plain(e) => Ok(xhab_sim::env::DiscreteEnv::step(e, action).collided),
-            MadeEnv::Physics(e) => Ok(xhab_sim::env::DiscreteEnv::step(e, action).collided),
+            EpisodeEnv::Plain(e) => Ok(xhab_sim::env::DiscreteEnv::step(e, action).collided),
+            EpisodeEnv::Physics(e) => Ok(xhab_sim::env::DiscreteEnv::step(e, action).collided),
         })
     }
 
@@ -318,8 +318,8 @@ impl PointNav {
             return Err(GymError::BadTwist);
         }
         self.advance(|env| match env {
-            MadeEnv::Plain(_) => Err(GymError::NeedsPhysics),
-            MadeEnv::Physics(e) => {
+            EpisodeEnv::Plain(_) => Err(GymError::NeedsPhysics),
+            EpisodeEnv::Physics(e) => {
                 e.drive(Twist { linear, angular }, duration);
                 Ok(false)
             }
@@ -327,7 +327,7 @@ impl PointNav {
     }
 
     /// Moves the running episode on with `f` (which says whether it collided) and scores it.
-    fn advance(&mut self, f: impl FnOnce(&mut MadeEnv) -> Result<bool, GymError>) -> Result<GymStep, GymError> {
+    fn advance(&mut self, f: impl FnOnce(&mut EpisodeEnv) -> Result<bool, GymError>) -> Result<GymStep, GymError> {
         let mut cur = self.current.take().ok_or(GymError::NotReset)?;
         if cur.done {
             self.current = Some(cur);
@@ -360,16 +360,16 @@ impl PointNav {
     /// A snapshot of the running episode for oracles (`None` before the first reset).
     pub fn snapshot(&self) -> Option<EnvSnapshot> {
         self.current.as_ref().map(|c| match &c.env {
-            MadeEnv::Plain(e) => EnvSnapshot::of(e),
-            MadeEnv::Physics(e) => EnvSnapshot::of(e),
+            EpisodeEnv::Plain(e) => EnvSnapshot::of(e),
+            EpisodeEnv::Physics(e) => EnvSnapshot::of(e),
         })
     }
 
     /// The running episode's metrics (`None` before the first reset).
     pub fn metrics(&self) -> Option<EpisodeMetrics> {
         self.current.as_ref().map(|c| match &c.env {
-            MadeEnv::Plain(e) => xhab_sim::env::DiscreteEnv::metrics(e),
-            MadeEnv::Physics(e) => xhab_sim::env::DiscreteEnv::metrics(e),
+            EpisodeEnv::Plain(e) => xhab_sim::env::DiscreteEnv::metrics(e),
+            EpisodeEnv::Physics(e) => xhab_sim::env::DiscreteEnv::metrics(e),
         })
     }
 }

@@ -98,10 +98,11 @@ impl ScanSchedule {
     }
 }
 
-/// The navigator's side of one episode, independent of the transport: fed the step's inputs
+/// The native navigation stack (localisation, costmaps, planner, DWA) for one episode,
+/// independent of the transport: fed the step's inputs
 /// (in-process by the runner, over ROS by the nav node), it answers with a command. Both
 /// transports run this same code, so their results are identical.
-pub struct NavBrain {
+pub struct NavStack {
     nav: Navigator,
     amcl: Option<Amcl>,
     localization: Localization,
@@ -135,17 +136,17 @@ pub struct NavInputs<'a> {
     pub twist: xhab_types::Twist,
     /// Ground-truth pose (m, rad): used by ground-truth localisation and to score AMCL.
     pub truth: Option<Pose2>,
-    /// The scan taken at this step, if one is due (see [`NavBrain::scan_due`]).
+    /// The scan taken at this step, if one is due (see [`NavStack::scan_due`]).
     pub scan: Option<&'a xhab_types::LaserScan>,
     /// Where the scan's origin sits on the base (m, rad): base_link -> the scan's frame.
     pub scan_mount: Pose2,
 }
 
-impl NavBrain {
+impl NavStack {
     /// A navigator on `map` heading for `goal`; AMCL (when asked) localises on `amcl_map`
     /// (the map of what the laser sees; `map` where there is one map) and starts at `start`
     /// with ROS's initial spread (0.5 m, pi/12 rad), or the spread given.
-    pub fn new(setup: &NavSetup, map: &OccupancyGrid, amcl_map: &OccupancyGrid, goal: xhab_types::Point2, start: Pose2, spread: Option<(f64, f64)>, seed: u64) -> NavBrain {
+    pub fn new(setup: &NavSetup, map: &OccupancyGrid, amcl_map: &OccupancyGrid, goal: xhab_types::Point2, start: Pose2, spread: Option<(f64, f64)>, seed: u64) -> NavStack {
         let mut nav = Navigator::new(setup.params.clone());
         nav.set_map(map);
         nav.set_goal(goal, 0.0);
@@ -155,7 +156,7 @@ impl NavBrain {
             a.init(start, sxy, syaw);
             a
         });
-        NavBrain { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0, last_fix: None }
+        NavStack { nav, amcl, localization: setup.localization, map_to_odom: Pose2::default(), scans: ScanSchedule::new(setup.scan_period), err_sum: [0.0; 2], err_n: 0, last_fix: None }
     }
 
     /// A new goal (m, map frame) at time `now` (s): the filter and the costmaps live on.

@@ -2,7 +2,7 @@
 //! the ROS message conversions, driving the physics environment at its controller rate.
 
 use crate::camera_capture::{capture, RenderStats};
-use crate::nav_agent::{episode_time, localization_map, NavBrain, NavInputs, NavReply, NavSetup, INITIAL_STD_XY, INITIAL_STD_YAW};
+use crate::nav_agent::{episode_time, localization_map, NavStack, NavInputs, NavReply, NavSetup, INITIAL_STD_XY, INITIAL_STD_YAW};
 use crate::outcome::{EpisodeRun, InvalidRun, Outcome};
 use crate::run_config::RunConfig;
 use std::time::Instant;
@@ -28,7 +28,7 @@ pub(crate) fn run_nav(env: &mut PhysicsEnv, grid: &NavGrid, scene: &xhab_sim::sc
     };
     let via = |p: Pose2| cv::pose2(&cv::pose(p, 0.0));
     let spread = cv::pose_with_covariance(0.0, Pose2::default(), INITIAL_STD_XY, INITIAL_STD_YAW).pose.covariance;
-    let mut brain = NavBrain::new(setup, &map, &amcl_map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
+    let mut brain = NavStack::new(setup, &map, &amcl_map, goal, via(env.odometry()), Some((spread[0].sqrt(), spread[35].sqrt())), cfg.seed);
     let period = setup.params.dwa.controller_period.max(1e-3);
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut sensor = setup.scan.as_ref().map(|s| s.sensor(cfg.seed));

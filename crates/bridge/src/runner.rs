@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use std::sync::Arc;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView};
 use xhab_sim::physics_env::PhysicsEnv;
 use xhab_sim::episode::{Dataset, Episode};
 use xhab_sim::world::World;
@@ -19,19 +19,19 @@ pub use crate::run_config::{PhysicsSetup, RunConfig};
 /// An environment made for one episode (one per episode: the variants' size difference
 /// costs nothing).
 #[allow(clippy::large_enum_variant)]
-pub(crate) enum MadeEnv {
+pub(crate) enum EpisodeEnv {
     /// Teleport-and-slide.
-    Plain(Env),
+    Plain(KinematicEnv),
     /// Under physics.
     Physics(PhysicsEnv),
 }
 
-impl MadeEnv {
+impl EpisodeEnv {
     /// The environment as the runner steps it.
     pub(crate) fn as_dyn(&mut self) -> &mut dyn DiscreteEnv {
         match self {
-            MadeEnv::Plain(e) => e,
-            MadeEnv::Physics(e) => e,
+            EpisodeEnv::Plain(e) => e,
+            EpisodeEnv::Physics(e) => e,
         }
     }
 }
@@ -45,7 +45,7 @@ pub(crate) fn across_storeys(ep: &Episode, transport: &str) -> Option<String> {
 
 /// Checks episode `ep` (number `index`) for the run and builds its environment and grid, or
 /// says why it cannot run.
-pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Result<(MadeEnv, Arc<xhab_sim::navgrid::NavGrid>), String> {
+pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -> Result<(EpisodeEnv, Arc<xhab_sim::navgrid::NavGrid>), String> {
     let grid = world.grid_at(ep.start_position.z).map_err(|e| e.to_string())?;
     let cross = ep.goals.iter().find(|g| (g.position.z - ep.start_position.z).abs() > xhab_sim::world::FLOOR_MATCH);
     if let Some(g) = cross {
@@ -58,12 +58,12 @@ pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfi
                 let seed = cfg.seed.wrapping_add(index as u64);
                 let e = PhysicsEnv::in_world(world, &ph.scene, ep, cfg.task.clone(), &ph.profile, ph.config.clone(), seed).map_err(|e| e.to_string())?;
                 let grid = e.grid().clone();
-                Ok((MadeEnv::Physics(e), grid))
+                Ok((EpisodeEnv::Physics(e), grid))
             }
             None => {
-                let env = Env::in_world(world, ep, cfg.task.clone()).map_err(|e| e.to_string())?;
+                let env = KinematicEnv::in_world(world, ep, cfg.task.clone()).map_err(|e| e.to_string())?;
                 let grid = env.grid().clone();
-                Ok((MadeEnv::Plain(env), grid))
+                Ok((EpisodeEnv::Plain(env), grid))
             }
         };
     }
@@ -74,10 +74,10 @@ pub(crate) fn make_env(world: &World, ep: &Episode, index: usize, cfg: &RunConfi
             if cfg.agent == AgentKind::Nav && cfg.nav.is_none() {
                 return Err("the nav agent needs its navigation setup".into());
             }
-            Ok((MadeEnv::Physics(e), grid))
+            Ok((EpisodeEnv::Physics(e), grid))
         }
         None if cfg.agent == AgentKind::Nav => Err("the nav agent drives with velocities: it needs --physics".into()),
-        None => Ok((MadeEnv::Plain(Env::new(grid.clone(), ep, cfg.task.clone()).map_err(|e| e.to_string())?), grid)),
+        None => Ok((EpisodeEnv::Plain(KinematicEnv::new(grid.clone(), ep, cfg.task.clone()).map_err(|e| e.to_string())?), grid)),
     }
 }
 
@@ -89,7 +89,7 @@ pub fn run_episode(world: &World, ep: &Episode, index: usize, cfg: &RunConfig) -
         Ok(m) => m,
         Err(reason) => return invalid(reason),
     };
-    if let (MadeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
+    if let (EpisodeEnv::Physics(e), AgentKind::Nav, Some(setup)) = (&mut made, cfg.agent, &cfg.nav) {
         let goal = ep.goals[0].position.xy();
         return crate::nav_episode::run_nav(e, &grid, &world.scene, index, &ep.episode_id, goal, setup, cfg, t0);
     }
@@ -118,7 +118,7 @@ pub fn run_episode_with(world: &World, ep: &Episode, index: usize, cfg: &RunConf
 }
 
 /// Steps a discrete agent through an episode until it is done (or `cancel` is set: `None`).
-fn drive_episode(mut made: MadeEnv, ep: &Episode, index: usize, cfg: &RunConfig, mut agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool, t0: Instant) -> Option<Outcome> {
+fn drive_episode(mut made: EpisodeEnv, ep: &Episode, index: usize, cfg: &RunConfig, mut agent: Box<dyn DiscreteAgent>, cancel: &AtomicBool, t0: Instant) -> Option<Outcome> {
     let invalid = |reason: String| Some(Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }));
     agent.reset();
     let env = made.as_dyn();
@@ -148,8 +148,8 @@ fn drive_episode(mut made: MadeEnv, ep: &Episode, index: usize, cfg: &RunConfig,
         return None;
     }
     let (sim_s, stuck, stuck_cause) = match &made {
-        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
-        MadeEnv::Plain(_) => (None, None, None),
+        EpisodeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
+        EpisodeEnv::Plain(_) => (None, None, None),
     };
     let env = made.as_dyn();
     Some(Outcome::Ran(EpisodeRun {

@@ -21,7 +21,7 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::goal_field::GoalField;
 use xhab_sim::navgrid::NavGrid;
@@ -342,8 +342,8 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
 
     // Each episode's start (its goal field included) is built once and cloned for every run.
     let need_starts = o.runs(PerfGroup::Discrete) || o.runs(PerfGroup::Sensors);
-    let starts: Vec<Env> =
-        if need_starts { episodes.iter().filter_map(|ep| Env::new(grid.clone(), ep, TaskConfig::default()).ok()).collect() } else { Vec::new() };
+    let starts: Vec<KinematicEnv> =
+        if need_starts { episodes.iter().filter_map(|ep| KinematicEnv::new(grid.clone(), ep, TaskConfig::default()).ok()).collect() } else { Vec::new() };
     if need_starts && starts.is_empty() {
         return Err(PerfError::NoValidEpisode);
     }
@@ -440,7 +440,7 @@ fn geodesic_perf(grid: &Arc<NavGrid>, goals: &[xhab_types::Point3], queries: &[x
 /// Discrete steps for about `seconds`: random actions (no stop) and the oracle from each
 /// start, timing `env.step` (and the oracle's decisions) only. Returns (random steps/s,
 /// oracle steps/s).
-fn discrete_perf(starts: &[Env], seconds: f64, checksum: &mut f64) -> (f64, f64) {
+fn discrete_perf(starts: &[KinematicEnv], seconds: f64, checksum: &mut f64) -> (f64, f64) {
     let mut act_rng = ChaCha8Rng::seed_from_u64(11);
     let (mut steps, mut step_s) = (0u64, 0.0);
     let (mut osteps, mut ostep_s) = (0u64, 0.0);
@@ -519,7 +519,7 @@ fn physics_perf(world: &World, grid: &Arc<NavGrid>, episodes: &[Episode], o: &Pe
 /// Discrete steps that render the camera at every step (depth, and RGB when `rgb`), and with
 /// a batch of N views rendered N at a time (N agents stepping together). Returns the figures
 /// and which renderer rendered and why.
-fn render_perf(world: &World, starts: &[Env], o: &PerfOptions, sensors: &[String], rgb: bool) -> Result<(RenderPerf, String), PerfError> {
+fn render_perf(world: &World, starts: &[KinematicEnv], o: &PerfOptions, sensors: &[String], rgb: bool) -> Result<(RenderPerf, String), PerfError> {
     let cam = setup::camera_params(&o.camera, CameraParams::default().mount_height)?;
     let t = Instant::now();
     let (r, why) = setup::build_renderer(o.camera.renderer, &world.scene)?;
@@ -564,7 +564,7 @@ fn render_perf(world: &World, starts: &[Env], o: &PerfOptions, sensors: &[String
     };
     if let Some(n) = o.batch.filter(|&n| n > 0) {
         // N agents, each stepping its own episode; their N views rendered in one call.
-        let mut envs: Vec<Env> = starts.iter().cycle().take(n).cloned().collect();
+        let mut envs: Vec<KinematicEnv> = starts.iter().cycle().take(n).cloned().collect();
         let (mut views_done, mut s) = (0u64, 0.0);
         while s < o.seconds {
             let t = Instant::now();

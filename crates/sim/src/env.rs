@@ -100,7 +100,7 @@ pub struct StepResult {
 }
 
 /// An episode checked against a grid: start pose, goals, their geodesic field and d0.
-pub(crate) struct Prepared {
+pub(crate) struct EpisodeStart {
     pub start: Pose2,
     pub goals: Vec<Point2>,
     pub field: Arc<GoalField>,
@@ -108,7 +108,7 @@ pub(crate) struct Prepared {
 }
 
 /// Checks that the episode's start and goals are navigable and connected; builds its field.
-pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<Prepared, InvalidEpisode> {
+pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<EpisodeStart, InvalidEpisode> {
     let start = Pose2::new(episode.start_position.x, episode.start_position.y, normalize_angle(episode.start_yaw));
     if !grid.is_navigable(start.position()) {
         return Err(InvalidEpisode::StartNotNavigable { x: start.x, y: start.y });
@@ -127,7 +127,7 @@ pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<Prepared, Inv
     if !d0.is_finite() {
         return Err(InvalidEpisode::Unreachable);
     }
-    Ok(Prepared { start, goals, field, d0 })
+    Ok(EpisodeStart { start, goals, field, d0 })
 }
 
 /// The observation of an agent at `pose` in an episode that started at `start`.
@@ -172,9 +172,10 @@ pub trait DiscreteEnv: EnvView + Send {
     fn metrics(&self) -> EpisodeMetrics;
 }
 
-/// One running episode on one floor.
+/// One running episode on one floor, kinematic: the agent teleports with Habitat's discrete
+/// actions and slides along obstacles (no physics; [`crate::physics_env::PhysicsEnv`] has it).
 #[derive(Debug, Clone)]
-pub struct Env {
+pub struct KinematicEnv {
     grid: Arc<NavGrid>,
     field: Arc<GoalField>,
     config: TaskConfig,
@@ -193,16 +194,16 @@ pub struct Env {
     height: f64,
 }
 
-impl Env {
+impl KinematicEnv {
     /// Starts `episode` on `grid` (the grid of the episode's floor).
-    pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
-        let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
-        Ok(Env::starting(grid, field, config, start, goals, d0, None))
+    pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<KinematicEnv, InvalidEpisode> {
+        let EpisodeStart { start, goals, field, d0 } = prepare(&grid, episode)?;
+        Ok(KinematicEnv::starting(grid, field, config, start, goals, d0, None))
     }
 
     /// An episode at its start on `grid` with `field`, nothing yet done.
-    fn starting(grid: Arc<NavGrid>, field: Arc<GoalField>, config: TaskConfig, start: Pose2, goals: Vec<Point2>, d0: f64, route: Option<(Arc<StoreyRoute>, usize)>) -> Env {
-        Env {
+    fn starting(grid: Arc<NavGrid>, field: Arc<GoalField>, config: TaskConfig, start: Pose2, goals: Vec<Point2>, d0: f64, route: Option<(Arc<StoreyRoute>, usize)>) -> KinematicEnv {
+        KinematicEnv {
             height: grid.surface_height(start.position()),
             grid,
             field,
@@ -221,17 +222,17 @@ impl Env {
     }
 
     /// Starts `episode` in `world`, on whichever storeys its start and goals stand
-    /// ([`World::storey_of`]). On one storey this is [`Env::new`] on that storey's grid; across
+    /// ([`World::storey_of`]). On one storey this is [`KinematicEnv::new`] on that storey's grid; across
     /// storeys the agent walks each storey's grid on the way and changes grid on the flights
     /// between them (see [`StoreyRoute`]), its height following the surface under it, and d0
     /// is the 3D geodesic of [`crate::storey_path`].
-    pub fn in_world(world: &World, episode: &Episode, config: TaskConfig) -> Result<Env, InvalidEpisode> {
+    pub fn in_world(world: &World, episode: &Episode, config: TaskConfig) -> Result<KinematicEnv, InvalidEpisode> {
         let sp = episode.start_position;
         let start = world.storey_of(sp).ok_or(InvalidEpisode::NoStorey { what: "start", x: sp.x, y: sp.y, z: sp.z })?;
         let goal = goal_storey(world, episode)?;
         if goal == start {
             let grid = world.grid(start).map_err(|_| InvalidEpisode::StartNotNavigable { x: sp.x, y: sp.y })?;
-            return Env::new(grid, episode, config);
+            return KinematicEnv::new(grid, episode, config);
         }
         let goals: Vec<Point2> = episode.goals.iter().map(|g| g.position.xy()).collect();
         let route = StoreyRoute::new(world, start, goal, &goals).ok_or(InvalidEpisode::Unreachable)?;
@@ -250,11 +251,11 @@ impl Env {
         if !d0.is_finite() {
             return Err(InvalidEpisode::Unreachable);
         }
-        Ok(Env::starting(grid, field, config, pose, goals, d0, Some((Arc::new(route), start))))
+        Ok(KinematicEnv::starting(grid, field, config, pose, goals, d0, Some((Arc::new(route), start))))
     }
 }
 
-impl Env {
+impl KinematicEnv {
     /// On an episode across storeys, its way and the storey the agent counts on now.
     pub fn route(&self) -> Option<(Arc<StoreyRoute>, usize)> {
         self.route.clone()
@@ -280,7 +281,7 @@ fn goal_storey(world: &World, episode: &Episode) -> Result<usize, InvalidEpisode
     storey.ok_or(InvalidEpisode::NoGoal)
 }
 
-impl DiscreteEnv for Env {
+impl DiscreteEnv for KinematicEnv {
     /// Applies one action. Steps after the episode ended change nothing.
     fn step(&mut self, action: Action) -> StepResult {
         if self.done {
@@ -350,7 +351,7 @@ impl DiscreteEnv for Env {
     }
 }
 
-impl EnvView for Env {
+impl EnvView for KinematicEnv {
     /// The agent's ground-truth pose (m, rad).
     fn pose(&self) -> Pose2 {
         self.pose

@@ -3,7 +3,7 @@
 //! forward 0.25/T m/s, turns 10/T deg/s, stop = zero velocity. Metrics as in [`crate::env`].
 
 use crate::action::Action;
-use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, Prepared, StepResult, TaskConfig};
+use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, EpisodeStart, StepResult, TaskConfig};
 use crate::episode::Episode;
 use crate::goal_field::GoalField;
 use crate::metrics::EpisodeMetrics;
@@ -95,7 +95,7 @@ impl PhysicsEnv {
         seed: u64,
     ) -> Result<PhysicsEnv, PhysicsEnvError> {
         check_control_period(&config)?;
-        let Prepared { start, goals, field, d0 } = prepare(&grid, episode)?;
+        let EpisodeStart { start, goals, field, d0 } = prepare(&grid, episode)?;
         let floor_z = grid.floor_z;
         PhysicsEnv::starting((grid, field), scene, (task, config), profile, (start, floor_z), goals, d0, seed, None)
     }
@@ -139,7 +139,7 @@ impl PhysicsEnv {
     }
 
     /// Starts `episode` in `world` under physics, on whichever storeys its start and goals
-    /// stand (as [`Env::in_world`](crate::env::Env::in_world)): on one storey this is
+    /// stand (as [`KinematicEnv::in_world`](crate::env::KinematicEnv::in_world)): on one storey this is
     /// [`PhysicsEnv::new`] on that storey's grid; across storeys the robot's storey follows it
     /// up and down the flights, d0 is the 3D geodesic and the path is measured in 3D. Whether
     /// the robot can climb a flight is up to its body and its profile's `step_height`.
@@ -154,7 +154,7 @@ impl PhysicsEnv {
         seed: u64,
     ) -> Result<PhysicsEnv, PhysicsEnvError> {
         // The discrete environment checks the episode and lays out the way.
-        let plan = crate::env::Env::in_world(world, episode, task.clone())?;
+        let plan = crate::env::KinematicEnv::in_world(world, episode, task.clone())?;
         let Some((route, storey)) = plan.route() else {
             return PhysicsEnv::new(plan.grid().clone(), scene, episode, task, profile, config, seed);
         };

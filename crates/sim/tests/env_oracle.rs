@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, InvalidEpisode, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView, InvalidEpisode, TaskConfig};
 use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::oracle::ShortestPathFollower;
 
@@ -15,7 +15,7 @@ fn room() -> Arc<NavGrid> {
     Arc::new(NavGrid::build(&s, &AgentParams::default(), 0.0).unwrap())
 }
 
-fn run_oracle(env: &mut Env) {
+fn run_oracle(env: &mut KinematicEnv) {
     let mut o = ShortestPathFollower::new();
     while !env.is_done() {
         let a = o.act(env);
@@ -27,7 +27,7 @@ fn run_oracle(env: &mut Env) {
 fn oracle_reaches_goals_through_the_door_efficiently() {
     let g = room();
     for (sx, sy, gx, gy) in [(1.0, 1.0, 1.0, 5.0), (5.5, 0.5, 0.5, 5.5), (3.0, 2.0, 4.5, 5.6), (0.5, 5.5, 5.5, 3.5)] {
-        let mut env = Env::new(g.clone(), &episode(sx, sy, 0.3, gx, gy), TaskConfig::default()).unwrap();
+        let mut env = KinematicEnv::new(g.clone(), &episode(sx, sy, 0.3, gx, gy), TaskConfig::default()).unwrap();
         run_oracle(&mut env);
         let m = env.metrics();
         eprintln!("({sx},{sy})->({gx},{gy}): {m:?}");
@@ -42,7 +42,7 @@ fn moving_into_a_wall_slides_and_counts_a_collision() {
     let g = room();
     // Facing the west wall at 45 degrees, 0.2 m from it: the agent slides north.
     let yaw = 135f64.to_radians();
-    let mut env = Env::new(g.clone(), &episode(0.25, 1.0, yaw, 5.0, 1.0), TaskConfig::default()).unwrap();
+    let mut env = KinematicEnv::new(g.clone(), &episode(0.25, 1.0, yaw, 5.0, 1.0), TaskConfig::default()).unwrap();
     let mut collisions = 0;
     for _ in 0..6 {
         let r = env.step(Action::MoveForward);
@@ -56,7 +56,7 @@ fn moving_into_a_wall_slides_and_counts_a_collision() {
     // It slid north: more than 0.5 m of progress along the wall.
     assert!(env.pose().y > 1.5, "{:?}", env.pose());
     // Head-on into the wall: no motion at all.
-    let mut env = Env::new(g.clone(), &episode(0.3, 1.0, std::f64::consts::PI, 5.0, 1.0), TaskConfig::default()).unwrap();
+    let mut env = KinematicEnv::new(g.clone(), &episode(0.3, 1.0, std::f64::consts::PI, 5.0, 1.0), TaskConfig::default()).unwrap();
     env.step(Action::MoveForward);
     let r = env.step(Action::MoveForward);
     assert!(r.collided);
@@ -67,7 +67,7 @@ fn moving_into_a_wall_slides_and_counts_a_collision() {
 fn step_limit_and_stop_end_episodes() {
     let g = room();
     let cfg = TaskConfig::default();
-    let mut env = Env::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 5.0), cfg.clone()).unwrap();
+    let mut env = KinematicEnv::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 5.0), cfg.clone()).unwrap();
     let mut n = 0;
     while !env.step(Action::TurnLeft).done {
         n += 1;
@@ -76,7 +76,7 @@ fn step_limit_and_stop_end_episodes() {
     let m = env.metrics();
     assert_eq!((m.steps, m.success, m.spl), (500, 0.0, 0.0));
     // Stopping far from the goal fails; soft SPL is 0 with no progress.
-    let mut env = Env::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 5.0), cfg).unwrap();
+    let mut env = KinematicEnv::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 5.0), cfg).unwrap();
     assert!(env.step(Action::Stop).done);
     let m = env.metrics();
     assert_eq!((m.success, m.soft_spl, m.steps), (0.0, 0.0, 1));
@@ -85,16 +85,16 @@ fn step_limit_and_stop_end_episodes() {
 #[test]
 fn invalid_episodes_are_named() {
     let g = room();
-    let e = Env::new(g.clone(), &episode(4.5, 4.5, 0.0, 1.0, 1.0), TaskConfig::default()).unwrap_err();
+    let e = KinematicEnv::new(g.clone(), &episode(4.5, 4.5, 0.0, 1.0, 1.0), TaskConfig::default()).unwrap_err();
     assert!(matches!(e, InvalidEpisode::StartNotNavigable { .. }), "{e}");
-    let e = Env::new(g.clone(), &episode(1.0, 1.0, 0.0, 0.05, 1.0), TaskConfig::default()).unwrap_err();
+    let e = KinematicEnv::new(g.clone(), &episode(1.0, 1.0, 0.0, 0.05, 1.0), TaskConfig::default()).unwrap_err();
     assert!(matches!(e, InvalidEpisode::GoalNotNavigable { .. }), "{e}");
 }
 
 #[test]
 fn observations_follow_the_conventions() {
     let g = room();
-    let mut env = Env::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 2.0), TaskConfig::default()).unwrap();
+    let mut env = KinematicEnv::new(g.clone(), &episode(1.0, 1.0, 0.0, 1.0, 2.0), TaskConfig::default()).unwrap();
     let o = env.observe();
     // Goal 1 m to the left of an agent facing +x.
     assert!((o.pointgoal[0] - 1.0).abs() < 1e-12 && (o.pointgoal[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-12);

@@ -1,7 +1,7 @@
 //! Physics mode: no tunnelling, determinism, the oracle under Algorithm 1, NaN commands.
 
 use std::sync::Arc;
-use xhab_sim::env::{DiscreteEnv, Env, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, TaskConfig};
 use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::oracle::ShortestPathFollower;
 use xhab_sim::physics_env::{PhysicsConfig, PhysicsEnv};
@@ -59,7 +59,7 @@ fn oracle_under_physics_matches_the_kinematic_run() {
     let prof = RobotProfile::builtin("habitat").unwrap();
     for (sx, sy, gx, gy) in [(1.0, 1.0, 1.0, 5.0), (5.5, 0.5, 0.5, 5.5)] {
         let ep = episode(sx, sy, 0.4, gx, gy);
-        let mut k = Env::new(grid.clone(), &ep, TaskConfig::default()).unwrap();
+        let mut k = KinematicEnv::new(grid.clone(), &ep, TaskConfig::default()).unwrap();
         run(&mut k);
         let mut p = PhysicsEnv::new(grid.clone(), &ps, &ep, TaskConfig::default(), &prof, PhysicsConfig::default(), 1).unwrap();
         run(&mut p);

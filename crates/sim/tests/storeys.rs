@@ -1,6 +1,6 @@
 //! Buildings with storeys and stairs: floors, storey grids joined by their flights.
 
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::oracle::ShortestPathFollower;
@@ -127,7 +127,7 @@ fn episode(a: [f64; 3], yaw: f64, b: [f64; 3]) -> Episode {
 
 /// Runs the shortest-path follower to the end; returns the metrics and the heights it passed.
 fn follow(world: &World, ep: &Episode) -> (xhab_sim::metrics::EpisodeMetrics, Vec<f64>) {
-    let mut env = Env::in_world(world, ep, TaskConfig::default()).unwrap();
+    let mut env = KinematicEnv::in_world(world, ep, TaskConfig::default()).unwrap();
     let mut oracle = ShortestPathFollower::new();
     let mut heights = vec![env.height()];
     while !env.is_done() {

@@ -8,7 +8,7 @@ use super::options::{ExternalOptions, MapOdom, Pace, RosEpisode};
 use crate::nav_agent::{episode_time, ScanSchedule, INITIAL_STD_XY, INITIAL_STD_YAW};
 use crate::robot_io::{Command, Mounts, RobotState};
 use crate::ros::node::RosError;
-use crate::runner::{make_env, EpisodeRun, InvalidRun, MadeEnv, Outcome, RunConfig};
+use crate::runner::{make_env, EpisodeRun, InvalidRun, EpisodeEnv, Outcome, RunConfig};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_sim::env::{DiscreteEnv, EnvView};
@@ -79,7 +79,7 @@ pub async fn run_episodes<S: StackSim, C: GoalClient>(sim: &mut S, client: &mut 
         };
         let o = match made {
             Err(reason) => Outcome::Invalid(InvalidRun { episode_id: ep.episode_id.clone(), reason }),
-            Ok((MadeEnv::Physics(env), grid)) => {
+            Ok((EpisodeEnv::Physics(env), grid)) => {
                 client.before_episode().await;
                 if i > 0 {
                     // Again each episode, for subscribers that latching missed (see above).
@@ -89,7 +89,7 @@ pub async fn run_episodes<S: StackSim, C: GoalClient>(sim: &mut S, client: &mut 
                 run.wall_s = t_wall.elapsed().as_secs_f64();
                 Outcome::Ran(run)
             }
-            Ok((MadeEnv::Plain(_), _)) => unreachable!("physics is on"),
+            Ok((EpisodeEnv::Plain(_), _)) => unreachable!("physics is on"),
         };
         outcomes.push(o);
         progress();

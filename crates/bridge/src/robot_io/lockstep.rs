@@ -3,7 +3,7 @@
 //! ([`StepAnswer`]), and the transport's part ([`LockstepTransport`]: announce, publish a step
 //! and wait for its answer). ROS 1's and ROS 2's xhab_msgs carry these.
 
-use super::live_loop::SimTransport;
+use super::standalone_loop::SimTransport;
 use super::state::RobotState;
 use crate::ros::node::RosError;
 use xhab_sim::sensors::{CameraFrame, CameraParams};

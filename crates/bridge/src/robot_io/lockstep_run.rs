@@ -8,7 +8,7 @@ use super::state::{Mounts, RobotState};
 use crate::agents::AgentKind;
 use crate::nav_agent::{episode_time, NavSetup, ScanSchedule};
 use crate::ros::node::RosError;
-use crate::runner::{make_env, EpisodeRun, InvalidRun, MadeEnv, Outcome, RunConfig};
+use crate::runner::{make_env, EpisodeRun, InvalidRun, EpisodeEnv, Outcome, RunConfig};
 use std::sync::Arc;
 use std::time::Instant;
 use xhab_sim::action::Action;
@@ -19,7 +19,7 @@ use xhab_sim::world::World;
 use xhab_types::Pose2;
 
 /// An episode's environment as [`make_env`] builds it (or why it cannot run).
-pub(crate) type Made = Result<(MadeEnv, Arc<NavGrid>), String>;
+pub(crate) type Made = Result<(EpisodeEnv, Arc<NavGrid>), String>;
 
 /// The sensor mounts of the run's robot (the laser of the nav setup's scan source, the
 /// camera of `--sensors`).
@@ -80,7 +80,7 @@ pub(crate) async fn run_lockstep_dataset<T: LockstepTransport>(sim: &mut T, worl
 
 /// Runs one episode through the simulator node; the agent node answers each step.
 #[allow(clippy::too_many_arguments)]
-async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: MadeEnv, grid: &Arc<NavGrid>, world_scene: &xhab_sim::scene::Scene, ep: &Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
+async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: EpisodeEnv, grid: &Arc<NavGrid>, world_scene: &xhab_sim::scene::Scene, ep: &Episode, index: usize, cfg: &RunConfig, clock_ns: &mut i64) -> Result<EpisodeRun, RosError> {
     let start_z = ep.start_position.z;
     let goal = ep.goals[0].position.xy();
     let goal_pose = Pose2::new(goal.x, goal.y, 0.0);
@@ -119,7 +119,7 @@ async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: MadeEnv, grid:
         };
     }
     match (&mut made, cfg.agent, &cfg.nav) {
-        (MadeEnv::Physics(env), AgentKind::Nav, Some(setup)) => {
+        (EpisodeEnv::Physics(env), AgentKind::Nav, Some(setup)) => {
             let setup: &NavSetup = setup;
             let map = setup.map.as_deref().cloned().unwrap_or_else(|| grid.occupancy_grid());
             sim.publish_map(stamp(0.0), &map).await?;
@@ -187,8 +187,8 @@ async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: MadeEnv, grid:
     // The next episode's clock starts a second after this one ended.
     *clock_ns = base_ns + (end_t * 1e9).round() as i64 + 1_000_000_000;
     let (sim_s, stuck, stuck_cause) = match &made {
-        MadeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
-        MadeEnv::Plain(_) => (None, None, None),
+        EpisodeEnv::Physics(p) => (Some(p.sim_s()), Some(p.stuck()), p.stuck_cause().map(str::to_string)),
+        EpisodeEnv::Plain(_) => (None, None, None),
     };
     Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, stuck_cause, abort_reason: aborted, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }

@@ -5,13 +5,13 @@
 //! simulator node's main loop, generic over a [`SimTransport`], and the benchmark's lock-step
 //! episodes, generic over a [`LockstepTransport`].
 
-mod live_loop;
+mod standalone_loop;
 mod lockstep;
 mod lockstep_run;
 mod state;
 pub mod wire;
 
-pub use live_loop::{render_frame, run_sim, SimTransport};
+pub use standalone_loop::{render_frame, run_sim, SimTransport};
 pub use lockstep::{EpisodeStart, LockstepTransport, StepAnswer};
 pub(crate) use lockstep_run::{mounts, run_lockstep_dataset};
 pub use state::{Command, Mounts, RobotState, DEPTH_OPTICAL_FRAME, OPTICAL_ROTATION, RGB_OPTICAL_FRAME};

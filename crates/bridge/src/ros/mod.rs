@@ -13,7 +13,7 @@ pub mod sim_node;
 pub mod agent_node;
 pub mod nav_node;
 pub mod bench;
-pub mod live;
+pub mod standalone_sim;
 pub mod external;
 pub mod move_base_client;
 pub mod wire;

@@ -20,7 +20,7 @@ use super::sim_node::{AMCL_MAP_TOPIC, EPISODE_TOPIC, STEP_REPLY_TOPIC, STEP_TOPI
 use super::tf_buffer::TfBuffer;
 use super::master::Master;
 use crate::benchmark::{nav_params, ParamError, ParamFile};
-use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, NavSetup};
+use crate::nav_agent::{Localization, NavStack, NavInputs, NavReply, NavSetup};
 use crate::setup::{self, SetupError};
 use roslibrust::ros1::Publisher;
 use xhab_nav::navigator::AbortReason;
@@ -148,7 +148,7 @@ impl Outputs {
 
     /// Localisation (map -> odom when AMCL runs) and the local plan at every step; the pose
     /// estimate, particles and global plan when `scanned` (a scan came: 10 Hz, not 20).
-    async fn report(&self, brain: &NavBrain, stamp: f64, odom: Pose2, cmd: Twist, dwa_sim_time: f64, scanned: bool) -> Result<(), RosError> {
+    async fn report(&self, brain: &NavStack, stamp: f64, odom: Pose2, cmd: Twist, dwa_sim_time: f64, scanned: bool) -> Result<(), RosError> {
         let m2o = brain.map_to_odom();
         if brain.amcl().is_some() {
             let m = tf2_msgs::TFMessage { transforms: vec![cv::tf(stamp, "map", "odom", cv::transform(m2o, 0.0))] };
@@ -259,9 +259,9 @@ async fn lockstep(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOp
     let mut steps = node.subscribe::<xhab_msgs::Step>(STEP_TOPIC).await?;
     let mut odoms = StampInbox::new(node.subscribe::<nav_msgs::Odometry>("odom").await?);
     let want_truth = opts.setup.localization == Localization::GroundTruth || stats.is_some();
-    let mut brain: Option<(u32, NavBrain, (i32, i32))> = None;
+    let mut brain: Option<(u32, NavStack, (i32, i32))> = None;
     let mut last: Option<xhab_msgs::StepReply> = None;
-    let flush = |b: &Option<(u32, NavBrain, (i32, i32))>| {
+    let flush = |b: &Option<(u32, NavStack, (i32, i32))>| {
         if let (Some(tx), Some((_, b, _))) = (stats.as_ref(), b.as_ref()) {
             let _ = tx.send(b.localization_error());
         }
@@ -292,7 +292,7 @@ async fn lockstep(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNodeOp
             };
             let ip = &e.initial_pose.pose;
             let spread = (ip.covariance[0].sqrt(), ip.covariance[35].sqrt());
-            let b = NavBrain::new(&opts.setup, &m, am.as_ref().unwrap_or(&m), cv::pose2(&e.goal.pose).position(), cv::pose2(&ip.pose), Some(spread), opts.seed);
+            let b = NavStack::new(&opts.setup, &m, am.as_ref().unwrap_or(&m), cv::pose2(&e.goal.pose).position(), cv::pose2(&ip.pose), Some(spread), opts.seed);
             brain = Some((s.episode, b, stamp_of(&e.start)));
         }
         let Some((_, b, start)) = brain.as_mut() else { unreachable!("set above") };
@@ -371,7 +371,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
     }
     let mut current_map = map.clone();
     let mut current_amcl_map = amcl_map.clone();
-    let mut brain: Option<NavBrain> = None;
+    let mut brain: Option<NavStack> = None;
     let mut goal: Option<Point2> = None;
     let mut goal_pending = false;
     let mut init: Option<(Pose2, (f64, f64), f64)> = None; // pose, spread, stamp
@@ -482,7 +482,7 @@ async fn free_running(node: &RosNode, out: Outputs, mut inp: Inputs, opts: NavNo
                             Some((p, s, _)) => (p, Some(s)),
                             None => (odom, None),
                         };
-                        let mut b = NavBrain::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
+                        let mut b = NavStack::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
                         b.set_initial_pose(start, odom, spread.unwrap_or((crate::nav_agent::INITIAL_STD_XY, crate::nav_agent::INITIAL_STD_YAW)));
                         b.set_goal(g, now);
                         brain = Some(b);

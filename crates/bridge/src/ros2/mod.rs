@@ -5,7 +5,7 @@
 //!
 //! [`msgs`]: the message types; [`convert`]: xhab's types to and from them; [`node`]: the
 //! DDS participant, QoS profiles, names and remapping (`--ros-args -r`); [`sim_node`]: the
-//! simulator node; [`live`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`, with its
+//! simulator node; [`standalone_sim`]: `xhab ros2 sim`; [`nav_node`]: `xhab ros2 nav`, with its
 //! `navigate_to_pose` server [`navigate_action`]; [`external`]: `xhab bench --agent ros2`,
 //! with [`navigate_client`].
 //!
@@ -16,7 +16,7 @@
 
 pub mod convert;
 pub mod external;
-pub mod live;
+pub mod standalone_sim;
 pub mod msgs;
 pub mod navigate_action;
 pub mod navigate_client;

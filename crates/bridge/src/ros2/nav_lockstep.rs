@@ -9,7 +9,7 @@ use super::lockstep::{episode_announcement, lockstep_qos, stamp_key, Inbox};
 use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, tf2_msgs, RosType};
 use super::node::{latched_qos, reliable_qos, Ros2Config, Ros2Node};
 use super::xhab_msgs;
-use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply};
+use crate::nav_agent::{Localization, NavStack, NavInputs, NavReply};
 use crate::ros::names::Names;
 use crate::ros::nav_node::NavNodeOptions;
 use crate::ros::node::RosError;
@@ -69,9 +69,9 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let tf_statics = node.subscription::<tf2_msgs::TFMessage>("/tf_static", latched_qos().history(History::KeepLast { depth: 100 }))?;
     let mut buffer = TfBuffer::new();
     let want_truth = opts.setup.localization == Localization::GroundTruth || stats.is_some();
-    let mut brain: Option<(u32, NavBrain, (i32, u32))> = None;
+    let mut brain: Option<(u32, NavStack, (i32, u32))> = None;
     let mut last: Option<xhab_msgs::StepReply> = None;
-    let flush = |b: &Option<(u32, NavBrain, (i32, u32))>| {
+    let flush = |b: &Option<(u32, NavStack, (i32, u32))>| {
         if let (Some(tx), Some((_, b, _))) = (stats.as_ref(), b.as_ref()) {
             let _ = tx.send(b.localization_error());
         }
@@ -105,7 +105,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
             };
             let ip = &e.initial_pose.pose;
             let spread = (ip.covariance[0].sqrt(), ip.covariance[35].sqrt());
-            let b = NavBrain::new(&opts.setup, &m, am.as_ref().unwrap_or(&m), cv::pose2(&e.goal.pose).position(), cv::pose2(&ip.pose), Some(spread), opts.seed);
+            let b = NavStack::new(&opts.setup, &m, am.as_ref().unwrap_or(&m), cv::pose2(&e.goal.pose).position(), cv::pose2(&ip.pose), Some(spread), opts.seed);
             brain = Some((s.episode, b, stamp_key(&e.start)));
         }
         let Some((_, b, start)) = brain.as_mut() else { unreachable!("set above") };

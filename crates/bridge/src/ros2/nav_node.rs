@@ -6,7 +6,7 @@
 //! of `goal_pose` goals.
 //!
 //! It runs a controller step on each odometry message at least one controller period (sim
-//! time, from the stamps) after the last, with the newest scan: the same `NavBrain` as
+//! time, from the stamps) after the last, with the newest scan: the same `NavStack` as
 //! in-process runs and `xhab ros nav`. A goal ends when the stack stops (reached) or aborts;
 //! the base then gets a zero `cmd_vel`.
 
@@ -15,7 +15,7 @@ use super::msgs::{geometry_msgs as gm, nav_msgs, sensor_msgs, tf2_msgs, RosType}
 use super::msgs::nav2_msgs::NavigateToPoseResult;
 use super::navigate_action::{distance_remaining, GoalEnd, NavigateServer, Request};
 use super::node::{command_qos, latched_qos, reliable_qos, sensor_data_qos, Ros2Config, Ros2Node};
-use crate::nav_agent::{Localization, NavBrain, NavInputs, NavReply, INITIAL_STD_XY, INITIAL_STD_YAW};
+use crate::nav_agent::{Localization, NavStack, NavInputs, NavReply, INITIAL_STD_XY, INITIAL_STD_YAW};
 use crate::ros::names::Names;
 use crate::ros::nav_node::{NavNodeOptions, NavNodeSetup};
 use crate::ros::node::RosError;
@@ -100,7 +100,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
     let mut buffer = TfBuffer::new();
     let mut current_map = map.clone();
     let mut current_amcl_map = amcl_map.clone();
-    let mut brain: Option<NavBrain> = None;
+    let mut brain: Option<NavStack> = None;
     let mut goal: Option<Point2> = None;
     let mut goal_pending = false;
     let mut init: Option<(Pose2, (f64, f64), f64)> = None; // pose, spread, stamp
@@ -224,7 +224,7 @@ pub async fn run(names: Names, config: Ros2Config, opts: NavNodeOptions, map: Op
                             Some((p, s, _)) => (p, Some(s)),
                             None => (odom, None),
                         };
-                        let mut b = NavBrain::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
+                        let mut b = NavStack::new(&setup, m, current_amcl_map.as_ref().unwrap_or(m), g, start, spread, opts.seed);
                         b.set_initial_pose(start, odom, spread.unwrap_or((INITIAL_STD_XY, INITIAL_STD_YAW)));
                         b.set_goal(g, now);
                         brain = Some(b);

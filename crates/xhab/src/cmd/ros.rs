@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 use xhab_bridge::nav_agent::Localization;
 use xhab_bridge::ros::agent_node::{self, AgentNodeOptions};
-use xhab_bridge::ros::live::{run_live, LiveSim, SimSpec};
+use xhab_bridge::ros::standalone_sim::{run_standalone, StandaloneSim, SimSpec};
 use xhab_bridge::ros::names::Names;
 use xhab_bridge::ros::nav_node::{self, NavNodeSetup, NavNodeSpec};
 use xhab_types::Pose2;
@@ -67,8 +67,8 @@ pub(crate) fn sim_spec(a: &SimNodeArgs, master: Option<String>, names: Names, lo
 }
 
 /// Builds the simulator of `spec` and says on stderr what runs (renderer, start, commands).
-pub(crate) fn build_sim(a: &SimNodeArgs, spec: &SimSpec) -> Result<LiveSim> {
-    let sim = LiveSim::build(spec)?;
+pub(crate) fn build_sim(a: &SimNodeArgs, spec: &SimSpec) -> Result<StandaloneSim> {
+    let sim = StandaloneSim::build(spec)?;
     if let Some(note) = &sim.renderer_note {
         super::render::print_renderer_note(note);
     }
@@ -105,7 +105,7 @@ pub fn run(c: &RosCommand) -> Result<ExitCode> {
         RosCommand::Sim(a) => {
             let spec = sim_spec(&a.sim, master_uri(&a.ros), names(&a.ros, "xhab_sim")?, a.ros.lockstep, timeout(&a.ros))?;
             let sim = build_sim(&a.sim, &spec)?;
-            run_live(sim.grid.clone(), &sim.options)?;
+            run_standalone(sim.grid.clone(), &sim.options)?;
         }
         RosCommand::Nav(a) => {
             let node = build_nav(&a.nav, a.ros.lockstep, timeout(&a.ros))?;

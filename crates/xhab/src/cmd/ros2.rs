@@ -9,7 +9,7 @@ use std::time::Duration;
 use xhab_bridge::ros::names::Names;
 use crate::scene_arg::scene_options;
 use xhab_bridge::ros2::agent_node::{self, Agent2Options};
-use xhab_bridge::ros2::live::run_live;
+use xhab_bridge::ros2::standalone_sim::run_standalone;
 use xhab_bridge::ros2::nav_node;
 use xhab_bridge::ros2::node::{names_from_ros_args, Ros2Config};
 
@@ -26,7 +26,7 @@ pub fn run(c: &Ros2Command) -> Result<ExitCode> {
             let timeout = Duration::from_secs_f64(a.ros2.ros_timeout.max(0.1));
             let spec = super::ros::sim_spec(&a.sim, None, names(&a.ros2, "xhab_sim")?, a.ros2.lockstep, timeout)?;
             let sim = super::ros::build_sim(&a.sim, &spec)?;
-            run_live(sim.grid.clone(), &sim.options, config)?;
+            run_standalone(sim.grid.clone(), &sim.options, config)?;
         }
         Ros2Command::Nav(a) => {
             let config = Ros2Config::from_env(|k| std::env::var(k).ok())?;

@@ -3,12 +3,12 @@
 //! (clock, tf, odom, scan) and camera frames, and step the robot under the newest command.
 
 use super::state::{Command, Mounts, RobotState};
-use crate::ros::live::LiveOptions;
+use crate::ros::standalone_sim::StandaloneOptions;
 use crate::ros::node::RosError;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use xhab_sim::action::Action;
-use xhab_sim::env::{DiscreteEnv, Env, EnvView, TaskConfig};
+use xhab_sim::env::{DiscreteEnv, KinematicEnv, EnvView, TaskConfig};
 use xhab_sim::episode::{Episode, Goal};
 use xhab_sim::navgrid::NavGrid;
 use xhab_sim::physics_env::PhysicsEnv;
@@ -70,7 +70,7 @@ fn roaming(start: Pose2, z: f64) -> Episode {
 /// physics, one control interval of `o.period` per cycle under the newest `cmd_vel` (zero
 /// after `o.cmd_vel_timeout` without one; in lock-step, exactly one command per cycle);
 /// without physics, one discrete action per command.
-pub async fn run_sim<T: SimTransport>(sim: &mut T, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
+pub async fn run_sim<T: SimTransport>(sim: &mut T, grid: Arc<NavGrid>, o: &StandaloneOptions) -> Result<(), RosError> {
     let task = TaskConfig { max_episode_steps: u32::MAX, ..Default::default() };
     let ep = roaming(o.start, o.start_z);
     sim.publish_static_tf(&o.mounts).await?;
@@ -133,7 +133,7 @@ pub async fn run_sim<T: SimTransport>(sim: &mut T, grid: Arc<NavGrid>, o: &LiveO
             }
         }
         None => {
-            let mut env = Env::new(grid.clone(), &ep, task).map_err(|e| RosError::Protocol(format!("start pose: {e}")))?;
+            let mut env = KinematicEnv::new(grid.clone(), &ep, task).map_err(|e| RosError::Protocol(format!("start pose: {e}")))?;
             let mut t = 0.0;
             loop {
                 let p = env.pose();

@@ -19,7 +19,7 @@ use xhab_types::{OccupancyGrid, Pose2};
 
 /// How `xhab ros sim` runs.
 #[derive(Debug, Clone)]
-pub struct LiveOptions {
+pub struct StandaloneOptions {
     /// Master URI; `None` starts one.
     pub master: Option<String>,
     /// The node's name, namespace and remappings.
@@ -113,21 +113,21 @@ pub struct SimSpec {
 }
 
 /// The simulator `xhab ros sim` runs: the floor's grid and the node's options, ready for
-/// [`run_live`].
+/// [`run_standalone`].
 #[derive(Debug, Clone)]
-pub struct LiveSim {
+pub struct StandaloneSim {
     /// The grid of the lowest floor.
     pub grid: Arc<NavGrid>,
     /// The node's options.
-    pub options: LiveOptions,
+    pub options: StandaloneOptions,
     /// Which renderer the camera uses and why (with the camera), for a log line.
     pub renderer_note: Option<String>,
 }
 
-impl LiveSim {
+impl StandaloneSim {
     /// Loads the scene and builds the robot, its physics, sensors, maps and start pose as
     /// `spec` asks (the environment through [`EnvSetup::build`], as `xhab bench` does).
-    pub fn build(spec: &SimSpec) -> Result<LiveSim, SetupError> {
+    pub fn build(spec: &SimSpec) -> Result<StandaloneSim, SetupError> {
         let mut env = EnvOptions::new(spec.scene.clone());
         env.scene_options = spec.scene_options.clone();
         env.physics = spec.physics.clone();
@@ -171,7 +171,7 @@ impl LiveSim {
             (None, None) => Some(grid.slice_map(&world.scene, lidar.mount_height, crate::nav_agent::SCAN_PLANE_HALF_BAND)),
             (None, Some(_)) => None,
         };
-        let options = LiveOptions {
+        let options = StandaloneOptions {
             master: spec.master.clone(),
             names: spec.names.clone(),
             mounts,
@@ -194,18 +194,18 @@ impl LiveSim {
             seed: spec.seed,
             timeout: spec.timeout,
         };
-        Ok(LiveSim { grid, options, renderer_note: setup.renderer_note })
+        Ok(StandaloneSim { grid, options, renderer_note: setup.renderer_note })
     }
 }
 
 /// Runs the simulator node until `duration` passes or the process is interrupted.
-pub fn run_live(grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
+pub fn run_standalone(grid: Arc<NavGrid>, o: &StandaloneOptions) -> Result<(), RosError> {
     let master = Master::connect_or_start(o.master.as_deref())?;
     eprintln!("xhab: ROS master {}{}", master.uri, if master.owned() { " (started for this run)" } else { "" });
-    super::foreground::run_until_ctrl_c(live(&master.uri, grid, o))
+    super::foreground::run_until_ctrl_c(serve(&master.uri, grid, o))
 }
 
-async fn live(uri: &str, grid: Arc<NavGrid>, o: &LiveOptions) -> Result<(), RosError> {
+async fn serve(uri: &str, grid: Arc<NavGrid>, o: &StandaloneOptions) -> Result<(), RosError> {
     let mut sim = SimNode::new(uri, o.names.clone(), &o.mounts.laser_frame, o.timeout).await?;
     run_sim(&mut sim, grid, o).await
 }
@@ -242,7 +242,7 @@ mod tests {
 
     #[test]
     fn the_simulator_is_built_from_its_spec() {
-        let sim = LiveSim::build(&spec()).unwrap();
+        let sim = StandaloneSim::build(&spec()).unwrap();
         let o = &sim.options;
         assert!(sim.grid.is_navigable(o.start.position()), "a random start is navigable");
         assert_eq!(o.start_z, sim.grid.floor_z);
@@ -252,7 +252,7 @@ mod tests {
         // Under physics, with the camera: the robot's mounts, its radius, the camera at its height.
         let robot = PhysicsOptions { robot: "turtlebot3_burger".into(), ..Default::default() };
         let given = Pose2::new(1.0, 2.0, 0.5);
-        let sim = LiveSim::build(&SimSpec { physics: Some(robot), publish_camera: true, rgb: true, start: Some(given), ..spec() }).unwrap();
+        let sim = StandaloneSim::build(&SimSpec { physics: Some(robot), publish_camera: true, rgb: true, start: Some(given), ..spec() }).unwrap();
         let o = &sim.options;
         let ph = o.physics.as_ref().expect("physics");
         assert_eq!(ph.profile.name, "turtlebot3_burger");
@@ -266,7 +266,7 @@ mod tests {
 
     #[test]
     fn bad_options_are_errors_naming_the_flag_or_file() {
-        let e = |s: SimSpec| LiveSim::build(&s).expect_err("should fail").to_string();
+        let e = |s: SimSpec| StandaloneSim::build(&s).expect_err("should fail").to_string();
         assert_eq!(e(SimSpec { depth_noise: -1.0, ..spec() }), "--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
         // The camera's options are checked even with the camera off.
         assert!(e(SimSpec { camera: CameraOptions { resolution: 0, ..Default::default() }, ..spec() }).contains("--resolution"));
