@@ -350,7 +350,16 @@ fn run_transport(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
         let out = run_dataset_ros(world.clone(), ds, cfg, &ros, progress).map_err(BenchError::Ros)?;
         Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, name, scene, file, true), out))
     };
-    if matches!(o.transport, Transport::Ros) {
+    run_compared(o.transport.compares(), &local, &remote)
+}
+
+/// A run and its episodes.
+type Ran = Result<(BenchReport, Vec<Outcome>), BenchError>;
+
+/// `remote` alone, or (`compare`) `local` then `remote`, the remote report carrying the wall
+/// time ratio (`ros_overhead`) and the comparison of every episode (`ros_check`).
+fn run_compared(compare: bool, local: &dyn Fn() -> Ran, remote: &dyn Fn() -> Ran) -> Ran {
+    if !compare {
         return remote();
     }
     let (l, l_out) = local()?;
@@ -374,14 +383,7 @@ fn run_over_ros2(o: &BenchOptions, world: &Arc<World>, ds: &Dataset, cfg: &RunCo
             let out = run_dataset_ros2(world.clone(), ds, cfg, &opts, progress).map_err(BenchError::Ros)?;
             Ok((BenchReport::new(&out, t0.elapsed().as_secs_f64(), cfg, cfg.agent.name(), scene, file, true), out))
         };
-        if !o.transport.compares() {
-            return remote();
-        }
-        let (l, l_out) = local()?;
-        let (mut r, r_out) = remote()?;
-        r.aggregate.ros_overhead = Some(r.aggregate.wall_s / l.aggregate.wall_s.max(1e-9));
-        r.ros_check = Some(compare_outcomes(&l_out, &r_out));
-        Ok((r, r_out))
+        run_compared(o.transport.compares(), local, &remote)
     }
     #[cfg(not(feature = "ros2"))]
     {

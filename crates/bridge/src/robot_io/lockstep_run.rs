@@ -192,3 +192,38 @@ async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: EpisodeEnv, gr
     };
     Ok(EpisodeRun { episode_id: ep.episode_id.clone(), metrics: made.as_dyn().metrics(), wall_s: 0.0, trajectory: traj, sim_s, stuck, stuck_cause, abort_reason: aborted, final_localization: None, localization_error: None, render: cfg.sensors.is_some().then_some((stats.frames, stats.seconds)), ros: None })
 }
+
+/// Ends a lock-step run: stops the agent node (`stop`), waits for it, and hands each nav
+/// episode that ran its localisation error from `stats` (one per episode, in order). When the
+/// run failed, the agent's own failure, if it had one within 2 s, is named as the cause.
+pub(crate) async fn finish_lockstep_run(
+    run: Result<(Vec<Outcome>, Vec<usize>), RosError>,
+    stop: tokio::sync::watch::Sender<bool>,
+    agent: tokio::task::JoinHandle<Result<(), RosError>>,
+    stats: &mut tokio::sync::mpsc::UnboundedReceiver<Option<[f64; 2]>>,
+    cfg: &RunConfig,
+) -> Result<Vec<Outcome>, RosError> {
+    let _ = stop.send(true);
+    let (mut outcomes, ran) = match run {
+        Ok(r) => r,
+        Err(e) => {
+            if let Ok(Ok(Err(a))) = tokio::time::timeout(std::time::Duration::from_secs(2), agent).await {
+                return Err(RosError::Protocol(format!("the agent node failed: {a} (the simulator then reported: {e})")));
+            }
+            return Err(e);
+        }
+    };
+    match agent.await {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(e),
+        Err(e) => return Err(RosError::Node(format!("agent node task: {e}"))),
+    }
+    if cfg.agent == AgentKind::Nav {
+        for &k in &ran {
+            if let (Some(stat), Outcome::Ran(r)) = (stats.recv().await, &mut outcomes[k]) {
+                r.localization_error = stat;
+            }
+        }
+    }
+    Ok(outcomes)
+}

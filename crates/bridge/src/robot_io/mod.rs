@@ -13,5 +13,5 @@ pub mod wire;
 
 pub use standalone_loop::{render_frame, run_sim, SimTransport};
 pub use lockstep::{EpisodeStart, LockstepTransport, StepAnswer};
-pub(crate) use lockstep_run::{mounts, run_lockstep_dataset};
+pub(crate) use lockstep_run::{mounts, run_lockstep_dataset, finish_lockstep_run};
 pub use state::{Command, Mounts, RobotState, DEPTH_OPTICAL_FRAME, OPTICAL_ROTATION, RGB_OPTICAL_FRAME};

@@ -6,7 +6,7 @@ use super::names::Names;
 use super::node::RosError;
 use super::sim_node::SimNode;
 use crate::agents::AgentKind;
-use crate::robot_io::{mounts, run_lockstep_dataset};
+use crate::robot_io::{finish_lockstep_run, mounts, run_lockstep_dataset};
 use crate::runner::{make_env, Outcome, RunConfig};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -63,31 +63,9 @@ async fn run_all(uri: &str, world: Arc<World>, ds: &Dataset, cfg: &RunConfig, op
     let mounts = mounts(cfg);
     let mut sim = SimNode::new(uri, Names::plain("xhab_sim"), &mounts.laser_frame, opts.timeout).await?;
     tracing::debug!("ros bench: nodes up in {:.3} s", t_start.elapsed().as_secs_f64());
-    let (mut outcomes, ran) = match run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS", progress).await {
-        Ok(r) => r,
-        Err(e) => {
-            let _ = stop_tx.send(true);
-            // The agent's own failure, if it had one, is the cause.
-            if let Ok(Ok(Err(a))) = tokio::time::timeout(Duration::from_secs(2), agent).await {
-                return Err(RosError::Protocol(format!("the agent node failed: {a} (the simulator then reported: {e})")));
-            }
-            return Err(e);
-        }
-    };
+    let run = run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS", progress).await;
     tracing::debug!("ros bench: episodes done at {:.3} s", t_start.elapsed().as_secs_f64());
-    let _ = stop_tx.send(true);
-    match agent.await {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => return Err(e),
-        Err(e) => return Err(RosError::Node(format!("agent node task: {e}"))),
-    }
-    if cfg.agent == AgentKind::Nav {
-        for &k in &ran {
-            if let (Some(stat), Outcome::Ran(r)) = (stats_rx.recv().await, &mut outcomes[k]) {
-                r.localization_error = stat;
-            }
-        }
-    }
+    let outcomes = finish_lockstep_run(run, stop_tx, agent, &mut stats_rx, cfg).await?;
     tracing::debug!("ros bench: agent stopped at {:.3} s", t_start.elapsed().as_secs_f64());
     Ok(outcomes)
 }

@@ -7,7 +7,7 @@
 use super::lockstep::LockstepSim2;
 use super::node::Ros2Config;
 use crate::agents::AgentKind;
-use crate::robot_io::{mounts, run_lockstep_dataset};
+use crate::robot_io::{finish_lockstep_run, mounts, run_lockstep_dataset};
 use crate::ros::names::Names;
 use crate::ros::node::RosError;
 use crate::runner::{make_env, Outcome, RunConfig};
@@ -55,38 +55,6 @@ async fn run_all(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &Ros2Be
     // reader of one participant (tried: the first step was never answered).
     let mut sim = LockstepSim2::new(Names::plain("xhab_sim"), config, &mounts(cfg).laser_frame, timeout)?;
     tracing::debug!("ros2 bench: nodes up in {:.3} s", t_start.elapsed().as_secs_f64());
-    let (mut outcomes, ran) = match run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS 2", progress).await {
-        Ok(r) => r,
-        Err(e) => {
-            let _ = stop_tx.send(true);
-            // The agent's own failure, if it had one, is the cause.
-            if let Ok(Ok(Err(a))) = tokio::time::timeout(Duration::from_secs(2), agent).await {
-                return Err(RosError::Protocol(format!("the agent node failed: {a} (the simulator then reported: {e})")));
-            }
-            return Err(e);
-        }
-    };
-    let tm = sim.timing;
-    tracing::debug!(
-        "ros2 bench: episodes done at {:.3} s; {} steps: publishing {:.3} s, waiting for answers {:.3} s ({:.1} us a step)",
-        t_start.elapsed().as_secs_f64(),
-        tm.steps,
-        tm.publish_s,
-        tm.wait_s,
-        1e6 * (tm.publish_s + tm.wait_s) / tm.steps.max(1) as f64
-    );
-    let _ = stop_tx.send(true);
-    match agent.await {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => return Err(e),
-        Err(e) => return Err(RosError::Node(format!("agent node task: {e}"))),
-    }
-    if cfg.agent == AgentKind::Nav {
-        for &k in &ran {
-            if let (Some(stat), Outcome::Ran(r)) = (stats_rx.recv().await, &mut outcomes[k]) {
-                r.localization_error = stat;
-            }
-        }
-    }
-    Ok(outcomes)
+    let run = run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS 2", progress).await;
+    finish_lockstep_run(run, stop_tx, agent, &mut stats_rx, cfg).await
 }
