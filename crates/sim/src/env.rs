@@ -100,7 +100,7 @@ pub struct StepResult {
 }
 
 /// An episode checked against a grid: start pose, goals, their geodesic field and d0.
-pub(crate) struct EpisodeStart {
+pub(crate) struct CheckedEpisode {
     pub start: Pose2,
     pub goals: Vec<Point2>,
     pub field: Arc<GoalField>,
@@ -108,7 +108,7 @@ pub(crate) struct EpisodeStart {
 }
 
 /// Checks that the episode's start and goals are navigable and connected; builds its field.
-pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<EpisodeStart, InvalidEpisode> {
+pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<CheckedEpisode, InvalidEpisode> {
     let start = Pose2::new(episode.start_position.x, episode.start_position.y, normalize_angle(episode.start_yaw));
     if !grid.is_navigable(start.position()) {
         return Err(InvalidEpisode::StartNotNavigable { x: start.x, y: start.y });
@@ -127,7 +127,7 @@ pub(crate) fn prepare(grid: &NavGrid, episode: &Episode) -> Result<EpisodeStart,
     if !d0.is_finite() {
         return Err(InvalidEpisode::Unreachable);
     }
-    Ok(EpisodeStart { start, goals, field, d0 })
+    Ok(CheckedEpisode { start, goals, field, d0 })
 }
 
 /// The observation of an agent at `pose` in an episode that started at `start`.
@@ -197,7 +197,7 @@ pub struct KinematicEnv {
 impl KinematicEnv {
     /// Starts `episode` on `grid` (the grid of the episode's floor).
     pub fn new(grid: Arc<NavGrid>, episode: &Episode, config: TaskConfig) -> Result<KinematicEnv, InvalidEpisode> {
-        let EpisodeStart { start, goals, field, d0 } = prepare(&grid, episode)?;
+        let CheckedEpisode { start, goals, field, d0 } = prepare(&grid, episode)?;
         Ok(KinematicEnv::starting(grid, field, config, start, goals, d0, None))
     }
 

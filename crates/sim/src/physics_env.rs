@@ -3,7 +3,7 @@
 //! forward 0.25/T m/s, turns 10/T deg/s, stop = zero velocity. Metrics as in [`crate::env`].
 
 use crate::action::Action;
-use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, EpisodeStart, StepResult, TaskConfig};
+use crate::env::{observation, prepare, DiscreteEnv, EnvView, InvalidEpisode, Observation, CheckedEpisode, StepResult, TaskConfig};
 use crate::episode::Episode;
 use crate::goal_field::GoalField;
 use crate::metrics::EpisodeMetrics;
@@ -95,7 +95,7 @@ impl PhysicsEnv {
         seed: u64,
     ) -> Result<PhysicsEnv, PhysicsEnvError> {
         check_control_period(&config)?;
-        let EpisodeStart { start, goals, field, d0 } = prepare(&grid, episode)?;
+        let CheckedEpisode { start, goals, field, d0 } = prepare(&grid, episode)?;
         let floor_z = grid.floor_z;
         PhysicsEnv::starting((grid, field), scene, (task, config), profile, (start, floor_z), goals, d0, seed, None)
     }
