@@ -43,7 +43,8 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     let r = &run.report;
     if let (Some(check), Some(overhead)) = (&r.ros_check, r.aggregate.ros_overhead) {
         eprintln!(
-            "xhab: over ROS {:.2} s, in-process {:.2} s (overhead {:.2}x); results {} (max metric difference {:.1e}, {} episodes with other steps)",
+            "xhab: over {} {:.2} s, in-process {:.2} s (overhead {:.2}x); results {} (max metric difference {:.1e}, {} episodes with other steps)",
+            if a.compare_ros2 { "ROS 2" } else { "ROS" },
             r.aggregate.wall_s, r.aggregate.wall_s / overhead.max(1e-9), overhead,
             if check.identical { "identical" } else { "DIFFER" }, check.max_metric_diff, check.episodes_with_other_steps
         );
@@ -56,7 +57,8 @@ pub fn run(a: &BenchArgs, quiet: bool) -> Result<ExitCode> {
     }
     if differ {
         let flag = if a.compare_ros2 { "--compare-ros2" } else { "--compare-ros" };
-        anyhow::bail!("{flag}: the run over ROS differs from the in-process run (see ros_check in the JSON)");
+        let over = if a.compare_ros2 { "ROS 2" } else { "ROS" };
+        anyhow::bail!("{flag}: the run over {over} differs from the in-process run (see ros_check in the JSON)");
     }
     Ok(ExitCode::SUCCESS)
 }
