@@ -15,7 +15,8 @@
 //! episodes, with the same noise, whatever its size and thread count.
 
 use crate::agents::AgentKind;
-use crate::runner::{capture, make_env, EpisodeEnv, RenderStats, RunConfig};
+use crate::camera_capture::{capture, RenderStats};
+use crate::runner::{make_env, EpisodeEnv, RunConfig};
 use crate::setup::{generate, EnvSetup, SetupError};
 use rayon::prelude::*;
 use std::sync::Arc;

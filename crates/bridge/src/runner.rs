@@ -12,7 +12,7 @@ use xhab_sim::physics_env::PhysicsEnv;
 use xhab_sim::episode::{Dataset, Episode};
 use xhab_sim::world::World;
 use xhab_nav::navigator::AbortReason;
-pub(crate) use crate::camera_capture::{capture, RenderStats};
+use crate::camera_capture::{capture, RenderStats};
 pub use crate::outcome::{EpisodeRun, InvalidRun, Outcome};
 pub use crate::run_config::{PhysicsSetup, RunConfig};
 

@@ -129,7 +129,7 @@ async fn episode<S: StackSim, C: GoalClient>(
     let mut traj = cfg.record_trajectories.then(|| vec![env.pose()]);
     let mut sensor = opts.scan.as_ref().map(|s| s.sensor(cfg.seed.wrapping_add(index as u64)));
     let mut sched = ScanSchedule::new(opts.scan_period);
-    let mut stats = crate::runner::RenderStats::default();
+    let mut stats = crate::camera_capture::RenderStats::default();
     let mut cmd = Twist::default();
     let (mut missed, mut wait_s, mut ack_at) = (0u64, 0.0f64, None);
     let mut last_send = Instant::now();
@@ -144,7 +144,7 @@ async fn episode<S: StackSim, C: GoalClient>(
     let end = loop {
         let t = episode_time(env.sim_s());
         let frame = match cfg.sensors.as_deref() {
-            Some(rig) => Some((rig, crate::runner::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, n, &mut stats).map_err(RosError::Node)?)),
+            Some(rig) => Some((rig, crate::camera_capture::capture(rig, env.pose(), grid.floor_z, cfg.seed, index, n, &mut stats).map_err(RosError::Node)?)),
             None => None,
         };
         let scan = sched.take(sensor.as_mut(), t, env.pose(), grid.floor_z, frame.as_ref().map(|(r, f)| (*r, f))).map_err(RosError::Node)?;

@@ -101,7 +101,7 @@ async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: EpisodeEnv, gr
     let mut traj = cfg.record_trajectories.then(|| vec![made.as_dyn().pose()]);
     let mut aborted: Option<String> = None;
     let mut end_t = 0.0;
-    let mut stats = crate::runner::RenderStats::default();
+    let mut stats = crate::camera_capture::RenderStats::default();
     let ep_index = index as u32;
     if index > 0 {
         // Again each episode: a subscriber (rosbag record) whose connection was being accepted
@@ -113,7 +113,7 @@ async fn run_episode<T: LockstepTransport>(sim: &mut T, mut made: EpisodeEnv, gr
     macro_rules! camera {
         ($n:expr, $pose:expr) => {
             match cfg.sensors.as_deref() {
-                Some(rig) => Some((rig, crate::runner::capture(rig, $pose, grid.floor_z, cfg.seed, index, $n as u64, &mut stats).map_err(RosError::Node)?)),
+                Some(rig) => Some((rig, crate::camera_capture::capture(rig, $pose, grid.floor_z, cfg.seed, index, $n as u64, &mut stats).map_err(RosError::Node)?)),
                 None => None,
             }
         };
