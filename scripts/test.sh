@@ -62,6 +62,9 @@ export XHAB_REQUIRE_GPU=1
 export XHAB_REQUIRE_SLURM=1
 export XHAB_REQUIRE_CHROMIUM=1
 ./scripts/check_deps.sh
+# A test run builds once: incremental caches would only add gigabytes to the disk
+# (set CARGO_INCREMENTAL=1 to keep them while iterating).
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 # Every test that skips says so in this file too (cargo hides the stderr of passing tests);
 # the summary is printed at the end, pass or fail.
 skip_log="$(mktemp)"
