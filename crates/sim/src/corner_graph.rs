@@ -66,7 +66,13 @@ impl CornerGraph {
             g.normal.push(n);
             g.taut.push(t);
         }
-        let n = cells.len();
+        for (p, n, island) in arc_nodes(grid) {
+            g.pos.push(p);
+            g.normal.push(n);
+            g.taut.push(TAUT_COS);
+            g.island.push(island);
+        }
+        let n = g.pos.len();
         // Each node's legs to the nodes after it, then mirrored.
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
@@ -160,9 +166,10 @@ impl CornerGraph {
     /// Geodesic distance between two points of the floor (m); infinite across islands or off
     /// the region. A search from `to` over the graph, ordered by the distance so far plus the
     /// straight line to `from`, that tests whether `from` (or `to`) sees a node only when
-    /// that node comes first: the first node `from` sees is on the shortest path. As in
-    /// [`GoalField`](crate::goal_field::GoalField), what `from` sees is seen from the centre of
-    /// its cell (or of the nearest navigable cell within two), and `to` is exact.
+    /// that node comes first: the first node `from` sees is on the shortest path. Both ends are
+    /// exact (a `from` just off the region is seen from the nearest navigable cell's centre
+    /// within two); [`GoalField`](crate::goal_field::GoalField) sees from cell centres instead,
+    /// so the two differ by up to a cell's diagonal where two routes are nearly equal.
     pub fn distance(&self, grid: &NavGrid, from: Point2, to: Point2) -> f64 {
         let (Some(ia), Some(ib)) = (grid.island_at(from), grid.island_at(to)) else { return f64::INFINITY };
         if ia != ib {
@@ -170,11 +177,16 @@ impl CornerGraph {
         }
         let (s, g) = ([from.x, from.y], [to.x, to.y]);
         let eg = end_eps(grid, g);
-        let Some(cs) = grid.cell_of(from).filter(|&i| grid.is_nav_cell(i)).or_else(|| grid.nearest_nav_cell(from, 2)) else {
-            return f64::INFINITY;
+        // What `from` sees is seen from `from` itself on the region, else from the nearest
+        // navigable cell's centre within two cells.
+        let (c, es) = match grid.cell_of(from).filter(|&i| grid.is_nav_cell(i)) {
+            Some(_) => (s, end_eps(grid, s)),
+            None => match grid.nearest_nav_cell(from, 2) {
+                Some(cs) => (grid.center(cs), LOS_EPS),
+                None => return f64::INFINITY,
+            },
         };
-        let (c, es) = (grid.center(cs), LOS_EPS);
-        if segment_clear(grid, c, g, eg) {
+        if segment_clear(grid, c, g, eg.max(es)) {
             return dist2(s, g);
         }
         SCRATCH.with(|sc| {
@@ -244,13 +256,20 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
-/// The line-of-sight tolerance at an end point `p` (m) of a query: [`LOS_EPS`], or the
-/// navigability tolerance for a point that stands within it (an episode's start may).
+/// The line-of-sight tolerance at an end point `p` (m) of a query: [`LOS_EPS`], or as far
+/// inside the clearance radius as `p` itself stands (an episode's start may stand within the
+/// navigability tolerance, and the grid's interpolated clearance can call a point a little
+/// closer than that navigable beside a convex corner), up to that tolerance plus a quarter
+/// cell.
 pub(crate) fn end_eps(grid: &NavGrid, p: [f64; 2]) -> f64 {
     if segment_clear(grid, p, p, LOS_EPS) {
-        LOS_EPS
-    } else {
-        crate::navgrid::NAV_TOLERANCE
+        return LOS_EPS;
+    }
+    let most = crate::navgrid::NAV_TOLERANCE + 0.25 * grid.resolution();
+    let exact = grid.cell_of(Point2::new(p[0], p[1])).and_then(|i| grid.nearest_segment_distance(i, &[p, p]));
+    match exact {
+        Some(d) => (grid.params.radius - d + 1e-6).clamp(LOS_EPS, most),
+        None => crate::navgrid::NAV_TOLERANCE,
     }
 }
 
@@ -275,11 +294,6 @@ fn reflex_cells(grid: &NavGrid) -> Vec<usize> {
             block.iter().filter(|&&(x, y)| !nav(x, y)).count() == 1
         })
     };
-    let pinched = |i: usize| {
-        let (c, r) = ((i % w) as isize, (i / w) as isize);
-        let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
-        [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| off_within(dx, dy) && off_within(-dx, -dy))
-    };
     let res = grid.resolution();
     let near_end = |i: usize| {
         let k = grid.nearest[i];
@@ -290,7 +304,68 @@ fn reflex_cells(grid: &NavGrid) -> Vec<usize> {
         let q = closest_on_segment(grid.center(i), s);
         (q[0] - s[0][0]).hypot(q[1] - s[0][1]) <= res || (q[0] - s[1][0]).hypot(q[1] - s[1][1]) <= res
     };
-    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || pinched(i))).collect()
+    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || pinched(grid, i))).collect()
+}
+
+/// Angular step of the bend points placed on the arcs about the obstacles' vertices (degrees).
+const ARC_STEP_DEG: f64 = 30.0;
+
+/// Bend points on the arcs about the convex vertices of the obstacle segments in narrow
+/// passages: every [`ARC_STEP_DEG`] on a circle just wide enough that the chord between two
+/// neighbours keeps the agent radius, kept where nothing is nearer than the vertex (the arc's
+/// free part) and a boundary cell within one is in a passage at most three cells wide, with
+/// the outward normal and island of each. The cells miss these: beside a corner in a passage
+/// under two cells wide they have the other side's obstacle nearest, so the corner's arc got
+/// no anchor and paths through the passage went the long way round (found by the property
+/// tests). Elsewhere the boundary cells' anchors cover the arcs.
+fn arc_nodes(grid: &NavGrid) -> Vec<([f64; 2], [f64; 2], u32)> {
+    const Q: f64 = 1e5;
+    let mut verts: Vec<[i64; 2]> = grid
+        .segments
+        .iter()
+        .flat_map(|s| s.iter().map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64]))
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let r = grid.params.radius;
+    let step = ARC_STEP_DEG.to_radians();
+    let big = r / (step / 2.0).cos() + 1e-6;
+    let (w, h) = grid.size();
+    verts
+        .par_iter()
+        .flat_map_iter(|v| {
+            let v = [v[0] as f64 / Q, v[1] as f64 / Q];
+            (0..(360.0 / ARC_STEP_DEG).round() as usize).filter_map(move |k| {
+                let (sin, cos) = (k as f64 * step).sin_cos();
+                let p = [v[0] + big * cos, v[1] + big * sin];
+                let i = grid.cell_of(Point2::new(p[0], p[1]))?;
+                // Only in narrow passages: elsewhere the boundary cells' anchors cover the arc.
+                let (c, rr) = (i % w, i / w);
+                let in_passage = (rr.saturating_sub(1)..=(rr + 1).min(h - 1))
+                    .any(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).any(|x| grid.corner[y * w + x] && pinched(grid, y * w + x)));
+                if !in_passage {
+                    return None;
+                }
+                let d = grid.nearest_segment_distance(i, &[p, p])?;
+                if d < big - 1e-5 {
+                    return None;
+                }
+                let island = grid.island_at(Point2::new(p[0], p[1]))?;
+                Some((p, [cos, sin], island))
+            })
+        })
+        .collect()
+}
+
+/// Whether cell `i` lies in a passage at most three cells wide: cells off the region within
+/// three on both sides along a row, a column or a diagonal.
+fn pinched(grid: &NavGrid, i: usize) -> bool {
+    let (w, h) = grid.size();
+    let (wi, hi) = (w as isize, h as isize);
+    let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
+    let (c, r) = ((i % w) as isize, (i / w) as isize);
+    let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
+    [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| off_within(dx, dy) && off_within(-dx, -dy))
 }
 
 /// The boundary's outward unit normal at cell `i` and the taut-leg cosine that goes with it:

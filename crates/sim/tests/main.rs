@@ -11,4 +11,5 @@ mod raster;
 mod gpu;
 mod textures;
 mod storeys;
+mod exact_geodesic;
 mod properties;

@@ -547,10 +547,29 @@ impl NavGrid {
         (k != u32::MAX).then(|| closest_on_segment(p, &self.segments[k as usize]))
     }
 
-    /// Distance from segment `s` to cell `i`'s nearest obstacle segment (m), if it has one.
+    /// Distance from segment `s` to the obstacle segments nearest to cell `i` and its eight
+    /// neighbours (m), if any has one. A cell's own nearest segment is nearest to its centre
+    /// only: elsewhere in the cell another can be nearer (a wall sliced into pieces, the other
+    /// side of a corner), and each such segment is the nearest of a neighbouring centre.
     pub(crate) fn nearest_segment_distance(&self, i: usize, s: &clearance::Seg) -> Option<f64> {
-        let k = *self.nearest.get(i)?;
-        (k != u32::MAX).then(|| clearance::segment_segment_distance(s, &self.segments[k as usize]))
+        let (w, h) = (self.spec.w, self.spec.h);
+        let (c, r) = (i % w, i / w);
+        let mut seen = [u32::MAX; 9];
+        let mut best: Option<f64> = None;
+        for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
+                let k = self.nearest[rr * w + cc];
+                if k == u32::MAX || seen.contains(&k) {
+                    continue;
+                }
+                if let Some(slot) = seen.iter_mut().find(|x| **x == u32::MAX) {
+                    *slot = k;
+                }
+                let d = clearance::segment_segment_distance(s, &self.segments[k as usize]);
+                best = Some(best.map_or(d, |b: f64| b.min(d)));
+            }
+        }
+        best
     }
 
     fn find_corners(&mut self) {
