@@ -14,7 +14,9 @@
 //! robot whose footprint already touches an obstacle (a start placed by a round radius, the
 //! map's cells coarser than the geometry) may move on as long as it gets no closer to it; a
 //! rollout that reaches the plan's end stops there (what lies beyond a goal beside a wall does
-//! not rule out approaching it at `min_vel_trans`).
+//! not rule out approaching it at `min_vel_trans`); a robot whose dynamic window does not
+//! reach `min_vel_theta` (at rest) may still spin up in place (ROS DWA has no in-place turn
+//! from rest then, and facing an obstacle finds no trajectory at all).
 
 use crate::costmap::{Costmap, INSCRIBED, LETHAL};
 use serde::{Deserialize, Serialize};
@@ -209,6 +211,23 @@ impl Dwa {
                 let Some(score) = self.score(pose, v, w, cm, start, &along) else { continue };
                 if best.is_none_or(|b| score < b.0) {
                     best = Some((score, Twist { linear: v, angular: w }));
+                }
+            }
+        }
+        // Spinning up in place: a robot that can stop this cycle but whose window does not
+        // reach min_vel_theta (at rest: acc_lim_theta * controller_period) has no in-place turn
+        // among the samples, so facing an obstacle it has no valid trajectory at all, and
+        // move_base's full-turn recovery brings it back to the same heading. The turn at
+        // min_vel_theta is scored, and the window's edge towards it commanded.
+        if v_lo <= 0.0 && v_hi >= 0.0 {
+            for w in [p.min_vel_theta, -p.min_vel_theta] {
+                let edge = if w > 0.0 { w_hi } else { w_lo };
+                if w == 0.0 || edge.abs() >= p.min_vel_theta || edge * w <= 0.0 {
+                    continue;
+                }
+                let Some(score) = self.score(pose, 0.0, w, cm, start, &along) else { continue };
+                if best.is_none_or(|b| score < b.0) {
+                    best = Some((score, Twist { linear: 0.0, angular: edge }));
                 }
             }
         }
