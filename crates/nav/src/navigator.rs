@@ -163,6 +163,9 @@ pub struct Navigator {
     spread: f64,
     /// When the final approach (refining, or past the plan's end) began.
     approach_since: Option<f64>,
+    /// Returns (readings within the laser's limits) in the last scan the localisation saw;
+    /// `None` until told.
+    scan_returns: Option<usize>,
 }
 
 impl Navigator {
@@ -188,6 +191,7 @@ impl Navigator {
             abort_reason: None,
             spread: 0.0,
             approach_since: None,
+            scan_returns: None,
         }
     }
 
@@ -195,6 +199,14 @@ impl Navigator {
     /// the goal check allows for it.
     pub fn set_localization_spread(&mut self, spread: f64) {
         self.spread = spread;
+    }
+
+    /// How many returns (readings within the laser's limits) the last scan the localisation
+    /// weighed had: with none, turning in place to refine cannot inform it (a scan with no
+    /// return says nothing of where the robot is, and the turn only adds odometry noise), so
+    /// the refine stops on the estimate at once.
+    pub fn set_scan_returns(&mut self, returns: usize) {
+        self.scan_returns = Some(returns);
     }
 
     /// Why the navigator gave up (once [`NavStatus::Aborted`]).
@@ -354,7 +366,9 @@ impl Navigator {
     /// The final approach at time `now` from `pose` to `goal`: straight, checked on the
     /// footprint alone. `refine`: the estimate is within tolerance but not sure enough, so it
     /// drives down to `refine_distance` and then turns in place (the localisation updates on
-    /// turning) until sure or out of time, when it stops on the estimate. Otherwise the plan
+    /// turning) until sure or out of time, when it stops on the estimate; where the last scan
+    /// had no return at all, turning cannot help and it stops on the estimate at once (see
+    /// [`Navigator::set_scan_returns`]). Otherwise the plan
     /// ended short of a goal the costmap blocks; blocked or out of time, that is the goal
     /// being unreachable for the costmap.
     fn final_approach(&mut self, now: f64, pose: Pose2, goal: Point2, refine: bool) -> NavCommand {
@@ -376,6 +390,11 @@ impl Navigator {
         } else {
             approach_command(layers.local(here), pose, goal, &footprint, ga.approach_speed, self.params.dwa.max_vel_theta, 0.5)
         };
+        if refine && command.is_none() && self.scan_returns == Some(0) {
+            tracing::debug!(now, "refine: the scan has no return, stopping on the estimate");
+            self.status = NavStatus::Succeeded;
+            return drive(self.status);
+        }
         self.status = NavStatus::Controlling;
         match command {
             Some(t) if !timed_out => NavCommand { twist: t, status: self.status },

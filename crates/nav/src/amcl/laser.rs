@@ -130,8 +130,8 @@ impl LaserModel {
     pub(crate) fn weigh(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
         let n = scan.ranges.len();
         let max_beams = p.laser_max_beams.max(2);
-        // The beam strides of ROS's models.
-        // ROS's beam stride (likelihood_field, beam).
+        // ROS's beam stride (likelihood_field, beam); likelihood_field_prob takes its beams
+        // among the returns (valid_beams).
         let step = (n.saturating_sub(1) / (max_beams - 1)).max(1);
         let beam_model = p.laser_model_type == LaserModelType::Beam;
         let indices: Vec<usize> = match p.laser_model_type {
@@ -225,16 +225,6 @@ impl LaserModel {
         for ((_, w), l) in particles.iter_mut().zip(&logp) {
             *w *= (l - top).exp();
             total += *w;
-        }
-        if tracing::enabled!(tracing::Level::TRACE) {
-            let sw: f64 = particles.iter().map(|(_, w)| *w).sum();
-            let ess = sw * sw / particles.iter().map(|(_, w)| w * w).sum::<f64>().max(1e-300);
-            let best = logp.iter().enumerate().fold((0, f64::MIN), |b, (i, &l)| if l > b.1 { (i, l) } else { b }).0;
-            let lp = particles[best].0.compose(laser);
-            let (s, c) = lp.yaw.sin_cos();
-            let near = beams.iter().filter(|b| self.field_at(lp.x + c * b.x - s * b.y, lp.y + s * b.x + c * b.y) > 0.6).count();
-            let worst = logp.iter().copied().fold(f64::INFINITY, f64::min);
-            tracing::trace!(beams = nb, scan = scan.ranges.len(), near, ess, n = particles.len(), top, worst, "weigh_prob");
         }
         total * top.exp()
     }
