@@ -418,6 +418,24 @@ mod tests {
     }
 
     #[test]
+    fn spins_up_in_place_from_rest_when_every_forward_sample_meets_the_wall() {
+        // At rest the angular window (acc_lim_theta * controller_period = 0.16 rad/s) is below
+        // min_vel_theta (0.4), so the only samples that move are forward ones; facing the wall
+        // at the edge of the inscribed zone, they all end in it. The path leaves at 0.9 rad to
+        // the left (below rotate_first_angle): the robot must spin up in place, not fail.
+        let cm = open(true);
+        let p = DwaParams::default();
+        assert!(p.acc_lim_theta * p.controller_period < p.min_vel_theta);
+        let inscribed = (0..300).map(|k| 2.0 + k as f64 * 0.005).find(|&x| cm.cost_at(Point2::new(x, 2.5)) >= INSCRIBED).unwrap();
+        let here = Point2::new(inscribed - 0.06, 2.5);
+        let mut d = Dwa::new(p);
+        d.set_plan(&straight(here, Point2::new(here.x + 1.5 * 0.9f64.cos(), here.y + 1.5 * 0.9f64.sin())));
+        let t = d.compute_velocity(Pose2::new(here.x, here.y, 0.0), Twist::default(), &cm).expect("an in-place turn");
+        assert_eq!(t.linear, 0.0, "{t:?}");
+        assert!(t.angular > 0.0 && t.angular <= d.params.acc_lim_theta * d.params.controller_period + 1e-12, "left, within the window: {t:?}");
+    }
+
+    #[test]
     fn turns_in_place_towards_a_goal_behind() {
         let cm = open(false);
         let mut d = Dwa::new(DwaParams::default());

@@ -637,6 +637,47 @@ mod tests {
     }
 
     #[test]
+    fn an_unsure_refine_stops_at_once_where_the_scan_has_no_return() {
+        // Unsure (0.09 m spread with a 0.2 m success radius): at refine_distance it turns in
+        // place until out of time while scans return; with a scan of no return, turning cannot
+        // inform the localisation and it stops on the estimate at once.
+        let goal = Point2::new(4.0, 4.0);
+        let mut params = NavParams::default();
+        params.goal_approach.success_radius = 0.2;
+        let run = |returns: usize| {
+            let mut nav = Navigator::new(params.clone());
+            nav.set_map(&room(false, false));
+            nav.set_goal(goal, 0.0);
+            nav.set_localization_spread(0.09);
+            nav.set_scan_returns(returns);
+            let (mut pose, mut vel, dt) = (Pose2::new(1.0, 1.0, 0.0), Twist::default(), 0.05);
+            let (mut t, mut turned) = (0.0, 0.0);
+            while t < 90.0 {
+                let cmd = nav.tick(t, pose, vel);
+                if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
+                    return (cmd.status, pose, turned);
+                }
+                vel = cmd.twist;
+                if vel.linear == 0.0 && vel.angular != 0.0 && pose.position().dist(goal) <= params.goal_approach.refine_distance {
+                    turned += dt;
+                }
+                pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+                t += dt;
+            }
+            (nav.status(), pose, turned)
+        };
+        let (s, p, turned) = run(40);
+        assert_eq!(s, NavStatus::Succeeded);
+        assert!(turned > 0.9 * params.goal_approach.max_refine_time, "{turned}");
+        let (s, p0, turned) = run(0);
+        assert_eq!(s, NavStatus::Succeeded);
+        assert_eq!(turned, 0.0);
+        for q in [p, p0] {
+            assert!(q.position().dist(goal) <= params.goal_approach.refine_distance + 1e-9, "{q:?}");
+        }
+    }
+
+    #[test]
     fn an_unsure_estimate_refines_before_stopping() {
         let goal = Point2::new(4.0, 4.0);
         let mut params = NavParams::default();

@@ -11,7 +11,9 @@
 //!
 //! Maps have origin yaw 0 ([`Amcl::new`](super::Amcl::new) turns a rotated one into the
 //! world's axes), so cells come from plain arithmetic. Beams without a return (NaN)
-//! are skipped by the likelihood-field models and read as `range_max` by the beam model.
+//! are skipped by the likelihood-field models and read as `range_max` by the beam model;
+//! `likelihood_field` and `beam` take ROS's fixed stride over all beams, `likelihood_field_prob`
+//! its `laser_max_beams` evenly among the returns (xhab's departure: see `valid_beams`).
 
 use super::AmclParams;
 use crate::distance_field::{squared_edt, FAR};
