@@ -214,7 +214,6 @@ impl Amcl {
     /// After an initialisation: the next scan updates the filter whatever the motion.
     fn restart(&mut self) {
         self.last_odom = None;
-        self.force_update = false;
         self.updates = 0;
         self.w_slow = 0.0;
         self.w_fast = 0.0;
@@ -619,33 +618,5 @@ mod tests {
         assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()), "no motion: no update");
         let moved = truth.compose(Pose2::new(0.25, 0.0, 0.0));
         assert!(amcl.update(moved, &scan(&map, moved), Pose2::default()));
-    }
-
-    #[test]
-    fn a_nomotion_update_request_updates_once_and_repeated_scans_narrow_the_filter() {
-        let map = room();
-        let mut amcl = Amcl::new(&map, AmclParams::default(), 2);
-        let truth = Pose2::new(1.2, 0.9, 0.3);
-        amcl.init(truth.compose(Pose2::new(0.15, -0.1, 0.0)), 0.3, 0.1);
-        assert!(amcl.update(truth, &scan(&map, truth), Pose2::default()));
-        let spread = |a: &Amcl| {
-            let v = a.estimate().variance;
-            (v[0] + v[1]).sqrt()
-        };
-        let before = spread(&amcl);
-        for _ in 0..20 {
-            assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()), "standing still: no update");
-            amcl.request_nomotion_update();
-            assert!(amcl.update(truth, &scan(&map, truth), Pose2::default()), "requested: updates");
-        }
-        assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()), "the request is used up");
-        let est = amcl.estimate();
-        assert!(spread(&amcl) < 0.5 * before, "{} vs {before}", spread(&amcl));
-        assert!(est.pose.position().dist(truth.position()) < 0.05, "{est:?}");
-        // An initialisation drops a pending request (its first scan updates anyway).
-        amcl.request_nomotion_update();
-        amcl.init(truth, 0.1, 0.1);
-        assert!(amcl.update(truth, &scan(&map, truth), Pose2::default()));
-        assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()));
     }
 }
