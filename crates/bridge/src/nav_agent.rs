@@ -197,12 +197,6 @@ impl NavStack {
         if let Some(scan) = inp.scan {
             self.scans.taken += 1;
             if let Some(a) = self.amcl.as_mut() {
-                // Refining an unsure estimate near the goal: every scan with returns updates
-                // the filter (a scan without any says nothing, and resampling on it would
-                // only shrink the spread by chance).
-                if self.nav.refining() && scan_returns(scan) > 0 {
-                    a.request_nomotion_update();
-                }
                 if a.update(inp.odom, scan, inp.scan_mount) {
                     let (estimate, m2o) = a.estimate_and_map_to_odom();
                     self.map_to_odom = m2o;

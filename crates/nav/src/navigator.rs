@@ -163,8 +163,6 @@ pub struct Navigator {
     spread: f64,
     /// When the final approach (refining, or past the plan's end) began.
     approach_since: Option<f64>,
-    /// Whether the final approach refines an unsure estimate (see [`Navigator::refining`]).
-    refining: bool,
     /// Returns (readings within the laser's limits) in the last scan the localisation saw;
     /// `None` until told.
     scan_returns: Option<usize>,
@@ -193,7 +191,6 @@ impl Navigator {
             abort_reason: None,
             spread: 0.0,
             approach_since: None,
-            refining: false,
             scan_returns: None,
         }
     }
@@ -210,15 +207,6 @@ impl Navigator {
     /// the refine stops on the estimate at once.
     pub fn set_scan_returns(&mut self, returns: usize) {
         self.scan_returns = Some(returns);
-    }
-
-    /// Whether the navigator is refining an unsure estimate near the goal (within
-    /// `xy_goal_tolerance` by the estimate, the spread too large to stop): the localisation
-    /// may then update on every scan that has returns, not only after `update_min_d` /
-    /// `update_min_a` of motion (amcl's `request_nomotion_update`), so the evidence of the
-    /// scans adds up while the robot hardly moves.
-    pub fn refining(&self) -> bool {
-        self.refining && self.status == NavStatus::Controlling
     }
 
     /// Why the navigator gave up (once [`NavStatus::Aborted`]).
@@ -261,7 +249,6 @@ impl Navigator {
         self.recoveries = 0;
         self.abort_reason = None;
         self.approach_since = None;
-        self.refining = false;
         self.progress_mark = (now, Point2::new(f64::NAN, f64::NAN));
     }
 
@@ -307,7 +294,6 @@ impl Navigator {
             return self.final_approach(now, pose, goal, false);
         }
         self.approach_since = None;
-        self.refining = false;
         if self.progress_mark.1.x.is_nan() {
             self.progress_mark = (now, here);
         }
@@ -388,7 +374,6 @@ impl Navigator {
     fn final_approach(&mut self, now: f64, pose: Pose2, goal: Point2, refine: bool) -> NavCommand {
         let here = pose.position();
         let since = *self.approach_since.get_or_insert(now);
-        self.refining = refine;
         // Standing still near the goal on purpose is progress enough.
         self.progress_mark = (now, here);
         let ga = self.params.goal_approach.clone();

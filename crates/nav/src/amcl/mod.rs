@@ -151,8 +151,6 @@ pub struct Amcl {
     updates: u32,
     w_slow: f64,
     w_fast: f64,
-    /// The next scan updates the filter whatever the motion (`request_nomotion_update`).
-    force_update: bool,
 }
 
 /// Normal quantile (inverse CDF) by Acklam's rational approximation (|error| < 1.2e-9).
@@ -195,7 +193,7 @@ impl Amcl {
         let map = &*map.axis_aligned();
         let laser = LaserModel::new(map, &params);
         let free_cells = (0..map.data.len()).filter(|&i| map.data[i] == GRID_FREE).collect();
-        Self { params, map: map.clone(), laser, free_cells, particles: Vec::new(), rng: ChaCha8Rng::seed_from_u64(seed), last_odom: None, updates: 0, w_slow: 0.0, w_fast: 0.0, force_update: false }
+        Self { params, map: map.clone(), laser, free_cells, particles: Vec::new(), rng: ChaCha8Rng::seed_from_u64(seed), last_odom: None, updates: 0, w_slow: 0.0, w_fast: 0.0 }
     }
 
     /// Spreads `max_particles / 2` particles around `pose` with standard deviations
@@ -253,10 +251,9 @@ impl Amcl {
     pub fn update(&mut self, odom: Pose2, scan: &LaserScan, laser: Pose2) -> bool {
         if let Some(last) = self.last_odom {
             let delta = last.inverse().compose(odom);
-            if !self.force_update && delta.x.hypot(delta.y) < self.params.update_min_d && normalize_angle(delta.yaw).abs() < self.params.update_min_a {
+            if delta.x.hypot(delta.y) < self.params.update_min_d && normalize_angle(delta.yaw).abs() < self.params.update_min_a {
                 return false;
             }
-            self.force_update = false;
             let p = &self.params;
             let m = OdomMotion::new(last, odom, p.odom_model_type, [p.odom_alpha1, p.odom_alpha2, p.odom_alpha3, p.odom_alpha4]);
             for k in 0..self.particles.len() {
@@ -270,13 +267,6 @@ impl Amcl {
             self.resample();
         }
         true
-    }
-
-    /// As amcl's `request_nomotion_update` service: the next scan updates the filter (motion
-    /// model with the odometry change so far, weighing, resampling on schedule) whatever the
-    /// motion since the last update.
-    pub fn request_nomotion_update(&mut self) {
-        self.force_update = true;
     }
 
     /// Whether every particle lies within 0.5 m (in x and in y) of the weighted mean, as
