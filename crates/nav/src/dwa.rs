@@ -14,7 +14,9 @@
 //! robot whose footprint already touches an obstacle (a start placed by a round radius, the
 //! map's cells coarser than the geometry) may move on as long as it gets no closer to it; a
 //! rollout that reaches the plan's end stops there (what lies beyond a goal beside a wall does
-//! not rule out approaching it at `min_vel_trans`).
+//! not rule out approaching it at `min_vel_trans`); a robot whose dynamic window does not
+//! reach `min_vel_theta` (at rest) may still spin up in place (ROS DWA has no in-place turn
+//! from rest then, and facing an obstacle finds no trajectory at all).
 
 use crate::costmap::{Costmap, INSCRIBED, LETHAL};
 use serde::{Deserialize, Serialize};
@@ -212,6 +214,23 @@ impl Dwa {
                 }
             }
         }
+        // Spinning up in place: a robot that can stop this cycle but whose window does not
+        // reach min_vel_theta (at rest: acc_lim_theta * controller_period) has no in-place turn
+        // among the samples, so facing an obstacle it has no valid trajectory at all, and
+        // move_base's full-turn recovery brings it back to the same heading. The turn at
+        // min_vel_theta is scored, and the window's edge towards it commanded.
+        if v_lo <= 0.0 && v_hi >= 0.0 {
+            for w in [p.min_vel_theta, -p.min_vel_theta] {
+                let edge = if w > 0.0 { w_hi } else { w_lo };
+                if w == 0.0 || edge.abs() >= p.min_vel_theta || edge * w <= 0.0 {
+                    continue;
+                }
+                let Some(score) = self.score(pose, 0.0, w, cm, start, &along) else { continue };
+                if best.is_none_or(|b| score < b.0) {
+                    best = Some((score, Twist { linear: 0.0, angular: edge }));
+                }
+            }
+        }
         best.map(|b| b.1).ok_or(ControlError::NoValidTrajectory)
     }
 
@@ -396,6 +415,24 @@ mod tests {
         d.set_plan(&straight(Point2::new(1.0, 2.5), Point2::new(4.0, 2.5)));
         let t = d.compute_velocity(Pose2::new(1.0, 2.5, 0.0), Twist { linear: 0.4, angular: 0.0 }, &cm).unwrap();
         assert!(t.linear > 0.3 && t.angular.abs() < 0.2, "{t:?}");
+    }
+
+    #[test]
+    fn spins_up_in_place_from_rest_when_every_forward_sample_meets_the_wall() {
+        // At rest the angular window (acc_lim_theta * controller_period = 0.16 rad/s) is below
+        // min_vel_theta (0.4), so the only samples that move are forward ones; facing the wall
+        // at the edge of the inscribed zone, they all end in it. The path leaves at 0.9 rad to
+        // the left (below rotate_first_angle): the robot must spin up in place, not fail.
+        let cm = open(true);
+        let p = DwaParams::default();
+        assert!(p.acc_lim_theta * p.controller_period < p.min_vel_theta);
+        let inscribed = (0..300).map(|k| 2.0 + k as f64 * 0.005).find(|&x| cm.cost_at(Point2::new(x, 2.5)) >= INSCRIBED).unwrap();
+        let here = Point2::new(inscribed - 0.06, 2.5);
+        let mut d = Dwa::new(p);
+        d.set_plan(&straight(here, Point2::new(here.x + 1.5 * 0.9f64.cos(), here.y + 1.5 * 0.9f64.sin())));
+        let t = d.compute_velocity(Pose2::new(here.x, here.y, 0.0), Twist::default(), &cm).expect("an in-place turn");
+        assert_eq!(t.linear, 0.0, "{t:?}");
+        assert!(t.angular > 0.0 && t.angular <= d.params.acc_lim_theta * d.params.controller_period + 1e-12, "left, within the window: {t:?}");
     }
 
     #[test]

@@ -163,6 +163,9 @@ pub struct Navigator {
     spread: f64,
     /// When the final approach (refining, or past the plan's end) began.
     approach_since: Option<f64>,
+    /// Returns (readings within the laser's limits) in the last scan the localisation saw;
+    /// `None` until told.
+    scan_returns: Option<usize>,
 }
 
 impl Navigator {
@@ -188,6 +191,7 @@ impl Navigator {
             abort_reason: None,
             spread: 0.0,
             approach_since: None,
+            scan_returns: None,
         }
     }
 
@@ -195,6 +199,14 @@ impl Navigator {
     /// the goal check allows for it.
     pub fn set_localization_spread(&mut self, spread: f64) {
         self.spread = spread;
+    }
+
+    /// How many returns (readings within the laser's limits) the last scan the localisation
+    /// weighed had: with none, turning in place to refine cannot inform it (a scan with no
+    /// return says nothing of where the robot is, and the turn only adds odometry noise), so
+    /// the refine stops on the estimate at once.
+    pub fn set_scan_returns(&mut self, returns: usize) {
+        self.scan_returns = Some(returns);
     }
 
     /// Why the navigator gave up (once [`NavStatus::Aborted`]).
@@ -337,7 +349,9 @@ impl Navigator {
                 self.control_fail_since = None;
                 NavCommand { twist: t, status: self.status }
             }
-            Err(_) => {
+            Err(e) => {
+                let cm = layers.local(here);
+                tracing::debug!(now, x = pose.x, y = pose.y, yaw = pose.yaw, v = vel.linear, w = vel.angular, cost = cm.cost_at(here), gcost = layers.global().cost_at(here), plan = self.plan.len(), "controller failed: {e}");
                 let since = *self.control_fail_since.get_or_insert(now);
                 if now - since > mb.controller_patience {
                     return self.recover(now, AbortReason::ControllerFailed);
@@ -352,7 +366,9 @@ impl Navigator {
     /// The final approach at time `now` from `pose` to `goal`: straight, checked on the
     /// footprint alone. `refine`: the estimate is within tolerance but not sure enough, so it
     /// drives down to `refine_distance` and then turns in place (the localisation updates on
-    /// turning) until sure or out of time, when it stops on the estimate. Otherwise the plan
+    /// turning) until sure or out of time, when it stops on the estimate; where the last scan
+    /// had no return at all, turning cannot help and it stops on the estimate at once (see
+    /// [`Navigator::set_scan_returns`]). Otherwise the plan
     /// ended short of a goal the costmap blocks; blocked or out of time, that is the goal
     /// being unreachable for the costmap.
     fn final_approach(&mut self, now: f64, pose: Pose2, goal: Point2, refine: bool) -> NavCommand {
@@ -374,6 +390,11 @@ impl Navigator {
         } else {
             approach_command(layers.local(here), pose, goal, &footprint, ga.approach_speed, self.params.dwa.max_vel_theta, 0.5)
         };
+        if refine && command.is_none() && self.scan_returns == Some(0) {
+            tracing::debug!(now, "refine: the scan has no return, stopping on the estimate");
+            self.status = NavStatus::Succeeded;
+            return drive(self.status);
+        }
         self.status = NavStatus::Controlling;
         match command {
             Some(t) if !timed_out => NavCommand { twist: t, status: self.status },
@@ -613,6 +634,47 @@ mod tests {
         assert_eq!(s, NavStatus::Succeeded, "{p:?} {:?}", nav.abort_reason());
         assert!(p.position().dist(goal) <= 0.1);
         assert!(nav.costmap().unwrap().cost_at(goal) >= crate::costmap::INSCRIBED);
+    }
+
+    #[test]
+    fn an_unsure_refine_stops_at_once_where_the_scan_has_no_return() {
+        // Unsure (0.09 m spread with a 0.2 m success radius): at refine_distance it turns in
+        // place until out of time while scans return; with a scan of no return, turning cannot
+        // inform the localisation and it stops on the estimate at once.
+        let goal = Point2::new(4.0, 4.0);
+        let mut params = NavParams::default();
+        params.goal_approach.success_radius = 0.2;
+        let run = |returns: usize| {
+            let mut nav = Navigator::new(params.clone());
+            nav.set_map(&room(false, false));
+            nav.set_goal(goal, 0.0);
+            nav.set_localization_spread(0.09);
+            nav.set_scan_returns(returns);
+            let (mut pose, mut vel, dt) = (Pose2::new(1.0, 1.0, 0.0), Twist::default(), 0.05);
+            let (mut t, mut turned) = (0.0, 0.0);
+            while t < 90.0 {
+                let cmd = nav.tick(t, pose, vel);
+                if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
+                    return (cmd.status, pose, turned);
+                }
+                vel = cmd.twist;
+                if vel.linear == 0.0 && vel.angular != 0.0 && pose.position().dist(goal) <= params.goal_approach.refine_distance {
+                    turned += dt;
+                }
+                pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
+                t += dt;
+            }
+            (nav.status(), pose, turned)
+        };
+        let (s, p, turned) = run(40);
+        assert_eq!(s, NavStatus::Succeeded);
+        assert!(turned > 0.9 * params.goal_approach.max_refine_time, "{turned}");
+        let (s, p0, turned) = run(0);
+        assert_eq!(s, NavStatus::Succeeded);
+        assert_eq!(turned, 0.0);
+        for q in [p, p0] {
+            assert!(q.position().dist(goal) <= params.goal_approach.refine_distance + 1e-9, "{q:?}");
+        }
     }
 
     #[test]

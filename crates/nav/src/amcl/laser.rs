@@ -11,7 +11,9 @@
 //!
 //! Maps have origin yaw 0 ([`Amcl::new`](super::Amcl::new) turns a rotated one into the
 //! world's axes), so cells come from plain arithmetic. Beams without a return (NaN)
-//! are skipped by the likelihood-field models and read as `range_max` by the beam model.
+//! are skipped by the likelihood-field models and read as `range_max` by the beam model;
+//! `likelihood_field` and `beam` take ROS's fixed stride over all beams, `likelihood_field_prob`
+//! its `laser_max_beams` evenly among the returns (xhab's departure: see `valid_beams`).
 
 use super::AmclParams;
 use crate::distance_field::{squared_edt, FAR};
@@ -58,6 +60,24 @@ pub(crate) struct LaserModel {
     origin: (f64, f64),
     res: f64,
     size: (i64, i64),
+}
+
+/// Indices of at most `max_beams` evenly spaced beams among the returns of `scan` within
+/// its limits (all of them when fewer): the beams `likelihood_field_prob` uses (ROS strides
+/// over every beam, returns or not, so a robot far from the walls of a large room uses few or
+/// none of its returns).
+fn valid_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
+    let valid: Vec<usize> = (0..scan.ranges.len())
+        .filter(|&i| {
+            let r = scan.ranges[i] as f64;
+            r.is_finite() && r >= scan.range_min && r < scan.range_max
+        })
+        .collect();
+    let m = max_beams.max(1);
+    if valid.len() <= m {
+        return valid;
+    }
+    (0..m).map(|k| valid[k * valid.len() / m]).collect()
 }
 
 impl LaserModel {
@@ -112,15 +132,16 @@ impl LaserModel {
     pub(crate) fn weigh(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
         let n = scan.ranges.len();
         let max_beams = p.laser_max_beams.max(2);
-        // The beam strides of ROS's models.
-        let step = match p.laser_model_type {
-            LaserModelType::LikelihoodFieldProb => n.div_ceil(max_beams),
-            _ => n.saturating_sub(1) / (max_beams - 1),
-        }
-        .max(1);
+        // ROS's beam stride (likelihood_field, beam); likelihood_field_prob takes its beams
+        // among the returns (valid_beams).
+        let step = (n.saturating_sub(1) / (max_beams - 1)).max(1);
         let beam_model = p.laser_model_type == LaserModelType::Beam;
-        let beams: Vec<Beam> = (0..n)
-            .step_by(step)
+        let indices: Vec<usize> = match p.laser_model_type {
+            LaserModelType::LikelihoodFieldProb => valid_beams(scan, max_beams),
+            _ => (0..n).step_by(step).collect(),
+        };
+        let beams: Vec<Beam> = indices
+            .into_iter()
             .filter_map(|i| {
                 let r = scan.ranges[i] as f64;
                 let valid = r.is_finite() && r >= scan.range_min && r < scan.range_max;
@@ -307,6 +328,33 @@ mod tests {
                 assert_eq!(lm.field[i], (-((d[i] * map.resolution).min(max)).powi(2) / s2).exp() as f32, "cell {i}, sigma {sigma}, max {max}");
             }
         }
+    }
+
+    #[test]
+    fn the_product_model_uses_the_returns_the_ros_stride_misses() {
+        // 360 beams, returns only on 6 beams off ROS's 12-beam stride (far walls elsewhere).
+        let mut ranges = vec![f32::NAN; 360];
+        for i in [5, 6, 7, 185, 186, 187] {
+            ranges[i] = 2.0;
+        }
+        ranges[100] = 3.5; // at range_max: no return
+        ranges[101] = 0.05; // below range_min
+        let inc = std::f64::consts::TAU / 360.0;
+        let scan = LaserScan { angle_min: -std::f64::consts::PI, angle_max: std::f64::consts::PI - inc, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges };
+        assert_eq!(valid_beams(&scan, 30), vec![5, 6, 7, 185, 186, 187]);
+        assert!((0..360).step_by(12).all(|i| !valid_beams(&scan, 30).contains(&i)), "none on the stride");
+        // More returns than beams: evenly spaced among the returns, max_beams of them.
+        let full = LaserScan { ranges: vec![1.0; 360], ..scan.clone() };
+        assert_eq!(valid_beams(&full, 30), (0..360).step_by(12).collect::<Vec<_>>());
+        // And the product model weighs with them: a particle off the truth loses.
+        let p = AmclParams::default();
+        let mut lm = LaserModel::new(&room(), &p);
+        let truth = Pose2::new(2.0, 2.0, 0.0);
+        let ranges = (0..360).map(|i| if i % 12 == 5 { lm.ray_range(truth.x, truth.y, scan.angle(i), 3.5) as f32 } else { f32::NAN }).collect();
+        let sparse = LaserScan { ranges, ..scan };
+        let mut parts = vec![(truth, 1.0), (Pose2::new(2.3, 2.0, 0.0), 1.0)];
+        lm.weigh(&p, &sparse, Pose2::default(), &mut parts, false);
+        assert!(parts[0].1 > 10.0 * parts[1].1, "{parts:?}");
     }
 
     #[test]

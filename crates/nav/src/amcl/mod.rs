@@ -14,7 +14,10 @@
 //! plugs the probability itself into the formula); resampling is O(N): a systematic
 //! (low-variance) sample of `max_particles`, shuffled, taken in that order until the KLD
 //! bound is met (ROS searches the cumulative weights per sample, O(N^2)); truncating a
-//! shuffled systematic sample keeps it unbiased.
+//! shuffled systematic sample keeps it unbiased; `likelihood_field_prob` takes its
+//! `laser_max_beams` beams evenly among the scan's returns (ROS strides over every beam and then
+//! drops those without a return, so a robot far from the walls uses few or none of the returns
+//! it has: on turtlebot3_world 10 of 30 beams returned, near open goals none).
 
 mod laser;
 mod motion;
