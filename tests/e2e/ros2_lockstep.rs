@@ -126,3 +126,40 @@ fn xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal() {
     eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success() && stdout.contains("PASS"), "xhab ros2 agent did not bring the lock-step simulator's robot to rclpy's goal_pose");
 }
+
+#[test]
+fn a_study_with_ros2_true_runs_each_episode_as_bench_ros2_does() {
+    let dir = tempdir("ros2_study");
+    let study = dir.join("study.yaml");
+    std::fs::write(
+        &study,
+        "name: over ROS 2\nscenes: [{scene: 'procedural:3', generate: {count: 2, seed: 1}}]\nagents: [{agent: oracle}]\nconfigurations: [{physics: false, ros2: true}]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let domain = domain_id(46);
+    let mut cmd = xhab();
+    cmd.args(["-q", "experiment"]).arg(&study).arg("--out").arg(&out);
+    xhab_ros2_env(&mut cmd, &domain);
+    assert!(cmd.status().unwrap().success(), "xhab experiment over ROS 2 failed");
+    let results: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let run = &results["runs"][0];
+    assert_eq!(run["id"], "procedural_3.oracle.nophysics_ros2.s0");
+    assert_eq!(run["configuration"], "-physics +ROS 2");
+    assert_eq!((run["ros"].as_bool(), run["ros2"].as_bool()), (Some(false), Some(true)));
+    let bench: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("runs").join(run["id"].as_str().unwrap()).join("bench.json")).unwrap()).unwrap();
+    assert_eq!(bench["ros"], true, "the study's run went over ROS 2");
+    // The same episodes through `xhab bench --ros2` give the same steps and metrics.
+    let alone = dir.join("alone.json");
+    let mut cmd = xhab();
+    cmd.args(["-q", "bench", "--scene", "procedural:3", "--ros2", "--episodes"]).arg(out.join("episodes/procedural_3.json.gz")).arg("--out").arg(&alone);
+    xhab_ros2_env(&mut cmd, &domain);
+    assert!(cmd.status().unwrap().success(), "xhab bench --ros2 failed");
+    let alone: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&alone).unwrap()).unwrap();
+    let key = |v: &serde_json::Value| -> Vec<(String, u64, String)> {
+        v["episodes"].as_array().unwrap().iter().map(|e| (e["episode_id"].to_string(), e["steps"].as_u64().unwrap(), format!("{:.6}", e["spl"].as_f64().unwrap()))).collect()
+    };
+    assert_eq!(key(&bench), key(&alone));
+    assert_eq!(key(&bench).len(), 2);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -131,6 +131,9 @@ fn not_applicable(agent: &AgentSpec, c: &Configuration) -> Option<&'static str> 
         AgentKindSpec::Ros if !c.physics => Some("an external stack drives with velocities: it runs under physics only"),
         AgentKindSpec::Ros if !c.ros => Some("an external stack runs over ROS only"),
         AgentKindSpec::Ros => None,
+        AgentKindSpec::Ros2 if !c.physics => Some("an external stack drives with velocities: it runs under physics only"),
+        AgentKindSpec::Ros2 if !c.ros2 => Some("an external ROS 2 stack runs over ROS 2 only"),
+        AgentKindSpec::Ros2 => None,
     }
 }
 
@@ -186,8 +189,15 @@ pub fn bench_options(spec: &ExperimentSpec, run: &RunPlan, first: usize, end: us
         AgentKindSpec::Oracle => AgentKind::Oracle,
         AgentKindSpec::Nav => AgentKind::Nav,
         AgentKindSpec::Ros => AgentKind::Ros,
+        AgentKindSpec::Ros2 => AgentKind::Ros2,
     };
-    o.transport = if c.ros && agent.agent != AgentKindSpec::Ros { Transport::Ros } else { Transport::InProcess };
+    // An external stack brings its own transport; xhab's agents go over the one asked for.
+    let external = matches!(agent.agent, AgentKindSpec::Ros | AgentKindSpec::Ros2);
+    o.transport = match (external, c.ros, c.ros2) {
+        (false, true, _) => Transport::Ros,
+        (false, _, true) => Transport::Ros2,
+        _ => Transport::InProcess,
+    };
     o.nav = NavOptions {
         localization: agent.localization,
         map: agent.map.as_ref().map(PathBuf::from),
@@ -217,9 +227,11 @@ pub fn slug(s: &str) -> String {
 }
 
 /// A configuration's part of run ids, from what it switches on (`physics_ros`,
-/// `nophysics_noros`, ...): names are free text, and the switches tell configurations apart.
-fn config_slug(c: &Configuration) -> String {
-    format!("{}physics_{}ros", if c.physics { "" } else { "no" }, if c.ros { "" } else { "no" })
+/// `nophysics_noros`, `physics_ros2`, ...): names are free text, and the switches tell
+/// configurations apart.
+pub(crate) fn config_slug(c: &Configuration) -> String {
+    let transport = if c.ros2 { "ros2" } else if c.ros { "ros" } else { "noros" };
+    format!("{}physics_{transport}", if c.physics { "" } else { "no" })
 }
 
 #[cfg(test)]
@@ -251,6 +263,32 @@ mod tests {
         assert!(matches!(o.transport, Transport::Ros) && o.env.physics.is_some());
         assert_eq!(o.episode_indices, Some(vec![1, 2]));
         assert_eq!(o.seed, 7);
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn ros2_configurations_send_xhabs_agents_over_ros2_and_run_external_ros2_stacks() {
+        let dir = std::env::temp_dir().join(format!("xhab-plan-ros2-{}", std::process::id()));
+        let spec = ExperimentSpec::parse(
+            "name: s\nscenes: [{scene: 'procedural:3', generate: {count: 2}}]\nagents: [{agent: oracle}, {agent: ros}, {agent: ros2, external: {launch: 'true'}}]\nconfigurations: [{physics: true, ros2: true}, {physics: true, ros: true}]\n",
+            Path::new("s.yaml"),
+        )
+        .unwrap();
+        assert_eq!(spec.configurations[0].label(), "+physics +ROS 2");
+        let p = plan(&spec, &dir).unwrap();
+        let ids: Vec<&str> = p.runs.iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(ids, ["procedural_3.oracle.physics_ros2.s0", "procedural_3.oracle.physics_ros.s0", "procedural_3.ros.physics_ros.s0", "procedural_3.ros2.physics_ros2.s0"]);
+        assert_eq!(p.skipped.len(), 2, "{:?}", p.skipped);
+        let transports: Vec<(AgentKind, Transport)> = p.runs.iter().map(|r| {
+            let o = bench_options(&spec, r, 0, 2).unwrap();
+            (o.agent, o.transport)
+        }).collect();
+        assert!(matches!(transports[0], (AgentKind::Oracle, Transport::Ros2)));
+        assert!(matches!(transports[1], (AgentKind::Oracle, Transport::Ros)));
+        assert!(matches!(transports[2], (AgentKind::Ros, Transport::InProcess)));
+        assert!(matches!(transports[3], (AgentKind::Ros2, Transport::InProcess)));
+        let both = ExperimentSpec::parse("name: s\nscenes: [{scene: x, episodes: a}]\nagents: [{agent: oracle}]\nconfigurations: [{physics: true, ros: true, ros2: true}]\n", Path::new("s.yaml")).unwrap_err().to_string();
+        assert!(both.contains("configurations[0]") && both.contains("ros2"), "{both}");
         std::fs::remove_dir_all(&dir).ok();
     }
 

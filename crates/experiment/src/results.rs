@@ -76,6 +76,9 @@ pub struct RunResult {
     pub physics: bool,
     /// Whether agent and simulator ran as ROS nodes.
     pub ros: bool,
+    /// Whether agent and simulator ran as ROS 2 nodes.
+    #[serde(default)]
+    pub ros2: bool,
     /// The seed.
     pub seed: u64,
     /// The episodes file.
@@ -103,6 +106,9 @@ pub struct ResultRow {
     pub physics: bool,
     /// Whether agent and simulator ran as ROS nodes.
     pub ros: bool,
+    /// Whether agent and simulator ran as ROS 2 nodes.
+    #[serde(default)]
+    pub ros2: bool,
     /// The seed.
     pub seed: u64,
     /// The episode's index in its set.
@@ -283,6 +289,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Results, ResultsError> {
                 configuration: configuration.clone(),
                 physics: c.physics,
                 ros: c.ros,
+                ros2: c.ros2,
                 seed: run.seed,
                 episode_index: i,
                 metrics: e.clone(),
@@ -295,6 +302,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Results, ResultsError> {
             configuration,
             physics: c.physics,
             ros: c.ros,
+            ros2: c.ros2,
             seed: run.seed,
             episodes_file: run.episodes_label.clone(),
             aggregate: m.report.aggregate.clone(),
@@ -314,17 +322,18 @@ pub fn read_results(dir: &Path) -> Result<Results, ResultsError> {
     serde_json::from_str(&text).map_err(|e| ResultsError::Format { path, message: e.to_string() })
 }
 
-/// `results.csv`: one line per run × valid episode.
+/// `results.csv`: one line per run × valid episode (`ros2` last: columns are only added at
+/// the end).
 pub fn results_csv(r: &Results) -> String {
-    let mut s = String::from("run,scene,agent,configuration,physics,ros,seed,episode_index,episode_id,success,spl,soft_spl,distance_to_goal,steps,collisions,path_length,start_distance,called_stop,failure,sim_s,wall_s\n");
+    let mut s = String::from("run,scene,agent,configuration,physics,ros,seed,episode_index,episode_id,success,spl,soft_spl,distance_to_goal,steps,collisions,path_length,start_distance,called_stop,failure,sim_s,wall_s,ros2\n");
     let q = |t: &str| if t.contains([',', '"', '\n']) { format!("\"{}\"", t.replace('"', "\"\"")) } else { t.to_string() };
     for row in &r.episodes {
         let e = &row.metrics;
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             q(&row.run), q(&row.scene), q(&row.agent), q(&row.configuration), row.physics, row.ros, row.seed, row.episode_index, q(&e.episode_id),
             e.success, e.spl, e.soft_spl, e.distance_to_goal, e.steps, e.collisions, e.path_length, e.start_distance, e.called_stop,
-            e.failure.as_deref().unwrap_or(""), e.sim_s.map_or_else(String::new, |x| x.to_string()), e.wall_s
+            e.failure.as_deref().unwrap_or(""), e.sim_s.map_or_else(String::new, |x| x.to_string()), e.wall_s, row.ros2
         ));
     }
     s

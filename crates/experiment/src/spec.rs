@@ -86,8 +86,9 @@ pub struct AgentSpec {
     /// Short name used in run ids and the report (default: the agent kind).
     #[serde(default)]
     pub name: Option<String>,
-    /// `oracle` (Habitat's ShortestPathFollower), `nav` (the native stack) or `ros` (an
-    /// external ROS 1 stack, which `launch` starts).
+    /// `oracle` (Habitat's ShortestPathFollower), `nav` (the native stack), `ros` (an
+    /// external ROS 1 stack, which `launch` starts) or `ros2` (an external ROS 2 stack offering
+    /// `navigate_to_pose`, Nav2's, which `launch` starts).
     pub agent: AgentKindSpec,
     /// Robot profile under physics: habitat, locobot, turtlebot3_burger, turtlebot3_waffle or
     /// a .yaml file (default habitat).
@@ -105,7 +106,7 @@ pub struct AgentSpec {
     /// ROS parameter files layered in order, `FILE[@NAMESPACE]` as `--nav-params` takes them.
     #[serde(default)]
     pub nav_params: Vec<String>,
-    /// The external stack (`agent: ros`).
+    /// The external stack (`agent: ros` or `agent: ros2`).
     #[serde(default)]
     pub external: Option<ExternalStackSpec>,
 }
@@ -120,6 +121,8 @@ pub enum AgentKindSpec {
     Nav,
     /// An external ROS 1 stack.
     Ros,
+    /// An external ROS 2 stack (Nav2, or any node offering `navigate_to_pose`).
+    Ros2,
 }
 
 /// Where the nav and ros agents' scans come from.
@@ -135,17 +138,20 @@ pub enum ScansSpec {
     None,
 }
 
-/// How the external stack is started and driven (`xhab bench --agent ros`'s flags).
+/// How the external stack is started and driven (`xhab bench --agent ros`'s and
+/// `--agent ros2`'s flags).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExternalStackSpec {
     /// A command that starts the stack (`sh -c`), stopped at the end of each run.
     #[serde(default)]
     pub launch: Option<String>,
-    /// The simulator node's ROS arguments (`from:=to`, `__ns:=NS`).
+    /// The simulator node's ROS arguments (ROS 1: `from:=to`, `__ns:=NS`; ROS 2: `-r`,
+    /// `from:=to`, ...).
     #[serde(default)]
     pub ros_args: Vec<String>,
-    /// `action` (move_base's action server, default) or `simple` (move_base_simple/goal).
+    /// `action` (move_base's action server, or Nav2's `navigate_to_pose`; default) or `simple`
+    /// (move_base_simple/goal, or Nav2's goal_pose).
     #[serde(default = "default_goal_interface")]
     pub goal_interface: String,
     /// Simulated seconds after which an episode's goal is cancelled (s, default 120).
@@ -160,19 +166,28 @@ pub struct ExternalStackSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Configuration {
-    /// Its name in run ids and the report (default: `±physics ±ROS`).
+    /// Its name in run ids and the report (default: `±physics ±ROS`, or `±physics +ROS 2`).
     #[serde(default)]
     pub name: Option<String>,
     /// Rigid-body physics (Algorithm 1 under rapier3d) instead of teleport-and-slide.
     pub physics: bool,
-    /// Agent and simulator as separate ROS 1 nodes in lock-step.
+    /// Agent and simulator as separate ROS 1 nodes in lock-step (default false).
+    #[serde(default)]
     pub ros: bool,
+    /// Agent and simulator as separate ROS 2 nodes in lock-step (default false; not with
+    /// `ros`).
+    #[serde(default)]
+    pub ros2: bool,
 }
 
 impl Configuration {
-    /// The configuration's name: given, or `+physics -ROS` style.
+    /// The configuration's name: given, or `+physics -ROS` style (`+ROS 2` over ROS 2).
     pub fn label(&self) -> String {
-        self.name.clone().unwrap_or_else(|| format!("{}physics {}ROS", if self.physics { "+" } else { "-" }, if self.ros { "+" } else { "-" }))
+        let physics = if self.physics { "+" } else { "-" };
+        if self.ros2 {
+            return self.name.clone().unwrap_or_else(|| format!("{physics}physics +ROS 2"));
+        }
+        self.name.clone().unwrap_or_else(|| format!("{physics}physics {}ROS", if self.ros { "+" } else { "-" }))
     }
 }
 
@@ -195,7 +210,7 @@ impl Default for TrajectorySpec {
 }
 
 fn four_configurations() -> Vec<Configuration> {
-    let c = |physics, ros| Configuration { name: None, physics, ros };
+    let c = |physics, ros| Configuration { name: None, physics, ros, ros2: false };
     vec![c(false, false), c(true, false), c(false, true), c(true, true)]
 }
 fn default_seeds() -> Vec<u64> {
@@ -316,8 +331,8 @@ impl ExperimentSpec {
             for (j, p) in a.nav_params.iter().enumerate() {
                 p.parse::<xhab_bridge::benchmark::ParamFile>().map_err(|e| (format!("agents[{i}].nav_params[{j}]"), e.to_string()))?;
             }
-            if a.external.is_some() && a.agent != AgentKindSpec::Ros {
-                return Err((format!("agents[{i}].external"), "only `agent: ros` drives an external stack".into()));
+            if a.external.is_some() && !matches!(a.agent, AgentKindSpec::Ros | AgentKindSpec::Ros2) {
+                return Err((format!("agents[{i}].external"), "only `agent: ros` and `agent: ros2` drive an external stack".into()));
             }
             if let Some(x) = &a.external {
                 if !matches!(x.goal_interface.as_str(), "action" | "simple") {
@@ -331,10 +346,13 @@ impl ExperimentSpec {
                 }
             }
         }
+        if let Some(i) = self.configurations.iter().position(|c| c.ros && c.ros2) {
+            return Err((format!("configurations[{i}]"), "ros and ros2 cannot both be true: a run goes over one of them".into()));
+        }
         unique(self.scenes.iter().map(|s| s.label()), "scenes", "name")?;
         unique(self.agents.iter().map(|a| a.label()), "agents", "name")?;
         unique(self.configurations.iter().map(|c| c.label()), "configurations", "name")?;
-        unique(self.configurations.iter().map(|c| format!("physics: {}, ros: {}", c.physics, c.ros)), "configurations", "")?;
+        unique(self.configurations.iter().map(|c| format!("physics: {}, ros: {}, ros2: {}", c.physics, c.ros, c.ros2)), "configurations", "")?;
         unique(self.seeds.iter().map(|s| s.to_string()), "seeds", "")?;
         Ok(())
     }
@@ -351,12 +369,13 @@ impl SceneSpec {
 }
 
 impl AgentSpec {
-    /// The agent's name: given, or its kind (`oracle`, `nav`, `ros`).
+    /// The agent's name: given, or its kind (`oracle`, `nav`, `ros`, `ros2`).
     pub fn label(&self) -> String {
         self.name.clone().unwrap_or_else(|| match self.agent {
             AgentKindSpec::Oracle => "oracle".into(),
             AgentKindSpec::Nav => "nav".into(),
             AgentKindSpec::Ros => "ros".into(),
+            AgentKindSpec::Ros2 => "ros2".into(),
         })
     }
 }

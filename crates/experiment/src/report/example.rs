@@ -167,7 +167,7 @@ pub fn write_example(dir: &Path) -> Result<Results, ResultsError> {
                     continue;
                 }
                 // As the plan names runs: `+physics -ROS` is `physics_noros`.
-                let c_slug = format!("{}physics_{}ros", if conf.physics { "" } else { "no" }, if conf.ros { "" } else { "no" });
+                let c_slug = crate::plan::config_slug(conf);
                 let id = format!("{}.{}.{c_slug}.s0", slug(&scene.label()), slug(&agent.label()));
                 let label = format!("episodes/{}.json.gz", slug(&scene.label()));
                 plan.runs.push(RunPlan { id, scene: s, agent: a, configuration: c, seed: 0, episodes_file: PathBuf::from(&label), episodes_label: label, episodes: EPISODES });

@@ -149,7 +149,7 @@ mod tests {
             "start_distance": 1.0, "called_stop": false, "aborted": false, "off_navigable": false
         }))
         .unwrap();
-        ResultRow { run: "r".into(), scene: "s".into(), agent: "a".into(), configuration: "c".into(), physics: false, ros: false, seed: 0, episode_index: index, metrics }
+        ResultRow { run: "r".into(), scene: "s".into(), agent: "a".into(), configuration: "c".into(), physics: false, ros: false, ros2: false, seed: 0, episode_index: index, metrics }
     }
 
     fn traj(index: usize) -> Trajectory {
