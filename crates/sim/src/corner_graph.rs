@@ -84,7 +84,7 @@ impl CornerGraph {
                     }
                     let (pa, pb) = (g.pos[a], g.pos[b]);
                     let d = [pb[0] - pa[0], pb[1] - pa[1]];
-                    let l = d[0].hypot(d[1]);
+                    let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
                     if l < 1e-9 {
                         continue;
                     }
@@ -156,7 +156,7 @@ impl CornerGraph {
     pub(crate) fn joins(&self, grid: &NavGrid, k: usize, p: [f64; 2], eps: f64) -> bool {
         let a = self.pos[k];
         let d = [p[0] - a[0], p[1] - a[1]];
-        let l = d[0].hypot(d[1]);
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
         if l < 1e-9 {
             return true;
         }
@@ -274,7 +274,8 @@ pub(crate) fn end_eps(grid: &NavGrid, p: [f64; 2]) -> f64 {
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// Boundary cells where a shortest path may bend, in cell order: those whose nearest obstacle
@@ -376,7 +377,7 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
     if let Some(k) = grid.nearest.get(i).copied().filter(|&k| k != u32::MAX) {
         let q = closest_on_segment(c, &grid.segments[k as usize]);
         let d = [c[0] - q[0], c[1] - q[1]];
-        let l = d[0].hypot(d[1]);
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
         if l > 1e-9 {
             return ([d[0] / l, d[1] / l], TAUT_COS);
         }

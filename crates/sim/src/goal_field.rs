@@ -338,5 +338,6 @@ fn goal_island(grid: &NavGrid, g: Point2) -> u32 {
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    (dx * dx + dy * dy).sqrt()
 }

@@ -80,11 +80,14 @@ pub(crate) fn segment_segment_distance(a: &Seg, b: &Seg) -> f64 {
     if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
         return 0.0;
     }
-    let pd = |p: [f64; 2], s: &Seg| {
+    // Squared distances and one square root (`hypot` guards against overflow that metre-scale
+    // coordinates never reach, and was the line-of-sight test's largest cost).
+    let pd2 = |p: [f64; 2], s: &Seg| {
         let c = closest_on_segment(p, s);
-        (c[0] - p[0]).hypot(c[1] - p[1])
+        let (dx, dy) = (c[0] - p[0], c[1] - p[1]);
+        dx * dx + dy * dy
     };
-    pd(a[0], b).min(pd(a[1], b)).min(pd(b[0], a)).min(pd(b[1], a))
+    pd2(a[0], b).min(pd2(a[1], b)).min(pd2(b[0], a)).min(pd2(b[1], a)).sqrt()
 }
 
 /// Closest point of segment `s` to `p`.
