@@ -211,12 +211,12 @@ impl NavStack {
                         self.err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
                         self.err_n += 1;
                         self.last_fix = Some([err, spread]);
-                        tracing::debug!(t = inp.t, err, spread, yaw_err = xhab_types::normalize_angle(pose.yaw - truth.yaw), yaw_sd = estimate.variance[2].sqrt(), particles = a.len(), returns = scan_returns(scan), status = ?self.nav.status(), "amcl update");
+                        tracing::debug!(t = inp.t, err, spread, yaw_err = xhab_types::normalize_angle(pose.yaw - truth.yaw), yaw_sd = estimate.variance[2].sqrt(), particles = a.len(), returns = scan.returns(), status = ?self.nav.status(), "amcl update");
                     }
                 }
             }
             if self.amcl.is_some() {
-                self.nav.set_scan_returns(scan_returns(scan));
+                self.nav.set_scan_returns(scan.returns());
             }
             // Taken where the laser is, placed where the robot believes it is.
             self.nav.add_scan(scan, pose.compose(inp.scan_mount));
@@ -259,11 +259,6 @@ impl NavStack {
     pub fn localization_error(&self) -> Option<[f64; 2]> {
         (self.err_n > 0).then(|| [self.err_sum[0] / self.err_n as f64, self.err_sum[1] / self.err_n as f64])
     }
-}
-
-/// Readings of `scan` within its limits (returns; a beam with none reads NaN or `range_max`).
-pub fn scan_returns(scan: &xhab_types::LaserScan) -> usize {
-    scan.ranges.iter().filter(|&&r| (r as f64).is_finite() && r as f64 >= scan.range_min && (r as f64) < scan.range_max).count()
 }
 
 /// Half the thickness of the band around the scan plane that the localisation map is cut

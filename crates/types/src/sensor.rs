@@ -61,4 +61,16 @@ impl LaserScan {
     pub fn angle(&self, i: usize) -> f64 {
         self.angle_min + i as f64 * self.angle_increment
     }
+
+    /// Whether beam `i` is a return: finite and in [range_min, range_max) (a reading at
+    /// range_max, like NaN, means nothing was hit, as amcl reads it).
+    pub fn is_return(&self, i: usize) -> bool {
+        let r = self.ranges[i] as f64;
+        r.is_finite() && r >= self.range_min && r < self.range_max
+    }
+
+    /// How many beams are returns ([`Self::is_return`]).
+    pub fn returns(&self) -> usize {
+        (0..self.ranges.len()).filter(|&i| self.is_return(i)).count()
+    }
 }

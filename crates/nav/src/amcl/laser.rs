@@ -67,12 +67,7 @@ pub(crate) struct LaserModel {
 /// over every beam, returns or not, so a robot far from the walls of a large room uses few or
 /// none of its returns).
 fn valid_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
-    let valid: Vec<usize> = (0..scan.ranges.len())
-        .filter(|&i| {
-            let r = scan.ranges[i] as f64;
-            r.is_finite() && r >= scan.range_min && r < scan.range_max
-        })
-        .collect();
+    let valid: Vec<usize> = (0..scan.ranges.len()).filter(|&i| scan.is_return(i)).collect();
     let m = max_beams.max(1);
     if valid.len() <= m {
         return valid;
@@ -143,10 +138,8 @@ impl LaserModel {
         let beams: Vec<Beam> = indices
             .into_iter()
             .filter_map(|i| {
-                let r = scan.ranges[i] as f64;
-                let valid = r.is_finite() && r >= scan.range_min && r < scan.range_max;
-                let r = match (valid, beam_model) {
-                    (true, _) => r,
+                let r = match (scan.is_return(i), beam_model) {
+                    (true, _) => scan.ranges[i] as f64,
                     // As ROS's node: readings outside the limits count as max-range readings.
                     (false, true) => scan.range_max,
                     (false, false) => return None,
