@@ -350,8 +350,10 @@ impl Navigator {
                 NavCommand { twist: t, status: self.status }
             }
             Err(e) => {
-                let cm = layers.local(here);
-                tracing::debug!(now, x = pose.x, y = pose.y, yaw = pose.yaw, v = vel.linear, w = vel.angular, cost = cm.cost_at(here), gcost = layers.global().cost_at(here), plan = self.plan.len(), "controller failed: {e}");
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    let cost = layers.local(here).cost_at(here);
+                    tracing::debug!(now, x = pose.x, y = pose.y, yaw = pose.yaw, v = vel.linear, w = vel.angular, cost, gcost = layers.global().cost_at(here), plan = self.plan.len(), "controller failed: {e}");
+                }
                 let since = *self.control_fail_since.get_or_insert(now);
                 if now - since > mb.controller_patience {
                     return self.recover(now, AbortReason::ControllerFailed);
