@@ -52,7 +52,8 @@ pub struct CornerGraph {
 impl CornerGraph {
     /// Builds the graph of `grid` (in parallel over nodes; the same graph for any thread count).
     pub fn new(grid: &NavGrid) -> CornerGraph {
-        let cells = reflex_cells(grid);
+        let passage = passage_cells(grid);
+        let cells = reflex_cells(grid, &passage);
         let mut g = CornerGraph {
             pos: cells.iter().map(|&i| grid.anchor[i]).collect(),
             normal: Vec::with_capacity(cells.len()),
@@ -66,7 +67,7 @@ impl CornerGraph {
             g.normal.push(n);
             g.taut.push(t);
         }
-        for (p, n, island) in arc_nodes(grid) {
+        for (p, n, island) in arc_nodes(grid, &passage) {
             g.pos.push(p);
             g.normal.push(n);
             g.taut.push(TAUT_COS);
@@ -284,7 +285,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// reflex corner of the cells (a 2 x 2 block with exactly one cell off the region), and those
 /// in a passage at most three cells wide (off-region cells on both sides), where paths follow
 /// the cells.
-fn reflex_cells(grid: &NavGrid) -> Vec<usize> {
+fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
     let (w, h) = grid.size();
     let (wi, hi) = (w as isize, h as isize);
     let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
@@ -305,7 +306,7 @@ fn reflex_cells(grid: &NavGrid) -> Vec<usize> {
         let q = closest_on_segment(grid.center(i), s);
         (q[0] - s[0][0]).hypot(q[1] - s[0][1]) <= res || (q[0] - s[1][0]).hypot(q[1] - s[1][1]) <= res
     };
-    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || pinched(grid, i))).collect()
+    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || passage[i])).collect()
 }
 
 /// Angular step of the bend points placed on the arcs about the obstacles' vertices (degrees).
@@ -319,7 +320,7 @@ const ARC_STEP_DEG: f64 = 30.0;
 /// under two cells wide they have the other side's obstacle nearest, so the corner's arc got
 /// no anchor and paths through the passage went the long way round (found by the property
 /// tests). Elsewhere the boundary cells' anchors cover the arcs.
-fn arc_nodes(grid: &NavGrid) -> Vec<([f64; 2], [f64; 2], u32)> {
+fn arc_nodes(grid: &NavGrid, passage: &[bool]) -> Vec<([f64; 2], [f64; 2], u32)> {
     const Q: f64 = 1e5;
     let mut verts: Vec<[i64; 2]> = grid
         .segments
@@ -343,7 +344,7 @@ fn arc_nodes(grid: &NavGrid) -> Vec<([f64; 2], [f64; 2], u32)> {
                 // Only in narrow passages: elsewhere the boundary cells' anchors cover the arc.
                 let (c, rr) = (i % w, i / w);
                 let in_passage = (rr.saturating_sub(1)..=(rr + 1).min(h - 1))
-                    .any(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).any(|x| grid.corner[y * w + x] && pinched(grid, y * w + x)));
+                    .any(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).any(|x| passage[y * w + x]));
                 if !in_passage {
                     return None;
                 }
@@ -358,15 +359,19 @@ fn arc_nodes(grid: &NavGrid) -> Vec<([f64; 2], [f64; 2], u32)> {
         .collect()
 }
 
-/// Whether cell `i` lies in a passage at most three cells wide: cells off the region within
-/// three on both sides along a row, a column or a diagonal.
-fn pinched(grid: &NavGrid, i: usize) -> bool {
+/// Per cell, whether it is a boundary cell in a passage at most three cells wide: cells off
+/// the region within three on both sides along a row, a column or a diagonal.
+fn passage_cells(grid: &NavGrid) -> Vec<bool> {
     let (w, h) = grid.size();
     let (wi, hi) = (w as isize, h as isize);
     let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
-    let (c, r) = ((i % w) as isize, (i / w) as isize);
-    let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
-    [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| off_within(dx, dy) && off_within(-dx, -dy))
+    (0..w * h)
+        .map(|i| {
+            let (c, r) = ((i % w) as isize, (i / w) as isize);
+            let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
+            grid.corner[i] && [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| off_within(dx, dy) && off_within(-dx, -dy))
+        })
+        .collect()
 }
 
 /// The boundary's outward unit normal at cell `i` and the taut-leg cosine that goes with it:
