@@ -8,8 +8,7 @@ use crate::ros_interop::Killed;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use xhab_bridge::ros::standalone_sim::{StandaloneSim, SimSpec};
-use xhab_bridge::ros::names::Names;
-use xhab_bridge::setup::{CameraOptions, PhysicsOptions, SceneOptions};
+use xhab_bridge::setup::{CameraOptions, PhysicsOptions};
 use xhab_sim::sensors::{Lidar, RendererKind};
 use xhab_types::Pose2;
 
@@ -62,26 +61,12 @@ const START: Pose2 = Pose2 { x: 0.0, y: 0.0, yaw: 0.0 };
 
 fn spec(start: Pose2) -> SimSpec {
     SimSpec {
-        scene: "procedural:3".into(),
-        scene_options: SceneOptions::default(),
         physics: Some(PhysicsOptions { robot: "turtlebot3_burger".into(), ..Default::default() }),
-        map: None,
-        amcl_map: None,
         start: Some(start),
         publish_camera: true,
         rgb: true,
         camera: CameraOptions { renderer: Some(RendererKind::Raster), ..Default::default() },
-        depth_noise: 0.0,
-        edge_dropout: 0.0,
-        rate: 1.0,
-        period: 0.05,
-        duration: None,
-        seed: 0,
-        map_odom_ground_truth: false,
-        master: None,
-        names: Names::plain("xhab_sim"),
-        lockstep: false,
-        timeout: std::time::Duration::from_secs(1),
+        ..SimSpec::new("procedural:3")
     }
 }
 

@@ -10,8 +10,6 @@ use crate::ros_interop::Killed;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 use xhab_bridge::ros::standalone_sim::{StandaloneSim, SimSpec};
-use xhab_bridge::ros::names::Names;
-use xhab_bridge::setup::{CameraOptions, SceneOptions};
 
 fn tempdir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("xhab_test_{name}_{}", std::process::id()));
@@ -85,28 +83,7 @@ fn xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal() {
     let name = "xhab_ros2_agent_beside_the_lockstep_simulator_reaches_rclpys_goal";
     let Some(py) = ros2_python(name) else { return };
     // The discrete simulator's start, from its own sampling (seed 0), and a goal in the open.
-    let spec = SimSpec {
-        scene: "procedural:5".into(),
-        scene_options: SceneOptions::default(),
-        physics: None,
-        map: None,
-        amcl_map: None,
-        start: None,
-        publish_camera: false,
-        rgb: false,
-        camera: CameraOptions::default(),
-        depth_noise: 0.0,
-        edge_dropout: 0.0,
-        rate: 1.0,
-        period: 0.05,
-        duration: None,
-        seed: 0,
-        map_odom_ground_truth: false,
-        master: None,
-        names: Names::plain("xhab_sim"),
-        lockstep: true,
-        timeout: Duration::from_secs(1),
-    };
+    let spec = SimSpec { lockstep: true, ..SimSpec::new("procedural:5") };
     let probe = StandaloneSim::build(&spec).expect("simulator builds");
     let goal = goal_in_the_open(&probe.grid, probe.options.start, 1.5).expect("an open direction from the start");
     let domain = domain_id(45);

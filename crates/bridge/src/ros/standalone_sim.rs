@@ -112,6 +112,36 @@ pub struct SimSpec {
     pub timeout: Duration,
 }
 
+impl SimSpec {
+    /// `xhab ros sim SCENE` with its flags' defaults (discrete actions, the scene's own map, a
+    /// random start from seed 0, no camera or noise, real time at a 0.05 s period, a master
+    /// started for the run, node `xhab_sim`, free-running) and a lock-step timeout of 1 s.
+    pub fn new(scene: impl Into<String>) -> SimSpec {
+        SimSpec {
+            scene: scene.into(),
+            scene_options: SceneOptions::default(),
+            physics: None,
+            map: None,
+            amcl_map: None,
+            start: None,
+            publish_camera: false,
+            rgb: false,
+            camera: CameraOptions::default(),
+            depth_noise: 0.0,
+            edge_dropout: 0.0,
+            rate: 1.0,
+            period: 0.05,
+            duration: None,
+            seed: 0,
+            map_odom_ground_truth: false,
+            master: None,
+            names: Names::plain("xhab_sim"),
+            lockstep: false,
+            timeout: Duration::from_secs(1),
+        }
+    }
+}
+
 /// The simulator `xhab ros sim` runs: the floor's grid and the node's options, ready for
 /// [`run_standalone`].
 #[derive(Debug, Clone)]
@@ -216,28 +246,7 @@ mod tests {
     use xhab_sim::sensors::RendererKind;
 
     fn spec() -> SimSpec {
-        SimSpec {
-            scene: "procedural:3".into(),
-            scene_options: SceneOptions::default(),
-            physics: None,
-            map: None,
-            amcl_map: None,
-            start: None,
-            publish_camera: false,
-            rgb: false,
-            camera: CameraOptions { renderer: Some(RendererKind::Raster), resolution: 16, ..Default::default() },
-            depth_noise: 0.0,
-            edge_dropout: 0.0,
-            rate: 1.0,
-            period: 0.05,
-            duration: None,
-            seed: 0,
-            map_odom_ground_truth: false,
-            master: None,
-            names: Names::from_args("xhab_sim", &[], None).unwrap(),
-            lockstep: false,
-            timeout: Duration::from_secs(1),
-        }
+        SimSpec { camera: CameraOptions { renderer: Some(RendererKind::Raster), resolution: 16, ..Default::default() }, ..SimSpec::new("procedural:3") }
     }
 
     #[test]
