@@ -264,14 +264,14 @@ impl Dwa {
         // A rollout that reaches the plan's end (within xy_goal_tolerance) ends there: the
         // robot stops at it, so what lies beyond (a goal beside a wall) does not matter.
         let end = self.plan.last().map(|g| g.position()).filter(|g| pose.position().dist(*g) <= v.abs() * p.sim_time + p.xy_goal_tolerance);
-        // The heading's sine and cosine, worked out again only when it changes.
-        let (mut yaw, (mut sy, mut cy)) = (q.yaw, q.yaw.sin_cos());
+        // The heading's sine and cosine, turned by the step's rotation (one `sin_cos` per
+        // rollout, not per step; the product drifts by a few ulps over a rollout).
+        let ((mut sy, mut cy), (sw, cw)) = (q.yaw.sin_cos(), (w * dt).sin_cos());
         for _ in 0..steps {
-            if q.yaw.to_bits() != yaw.to_bits() {
-                yaw = q.yaw;
-                (sy, cy) = yaw.sin_cos();
-            }
             q = Pose2::new(q.x + v * cy * dt, q.y + v * sy * dt, normalize_angle(q.yaw + w * dt));
+            if w != 0.0 {
+                (cy, sy) = (cy * cw - sy * sw, sy * cw + cy * sw);
+            }
             let c = cm.cost_at(q.position());
             if c >= LETHAL || (c >= INSCRIBED && c > start_cost) || (!(start_touches && c <= start_cost) && !self.footprint_clear(q, cm)) {
                 return None;
@@ -283,7 +283,7 @@ impl Dwa {
         }
         // Near the end of the plan the point ahead would overshoot: score the rollout's end.
         let near_end = self.plan.last().is_some_and(|g| pose.position().dist(g.position()) < 2.0 * p.forward_point_distance + p.xy_goal_tolerance);
-        let ahead = Point2::new(q.x + p.forward_point_distance * q.yaw.cos(), q.y + p.forward_point_distance * q.yaw.sin());
+        let ahead = Point2::new(q.x + p.forward_point_distance * cy, q.y + p.forward_point_distance * sy);
         // The point ahead must not look through an obstacle (ROS scores on obstacle-aware grid
         // distances; ours are straight-line, so a blocked point ahead falls back to the end).
         let fp = if near_end || !crate::planner::segment_cost_ok(cm, q.position(), ahead, INSCRIBED) { q.position() } else { ahead };

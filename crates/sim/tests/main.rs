@@ -13,3 +13,4 @@ mod textures;
 mod storeys;
 mod exact_geodesic;
 mod properties;
+mod scan_slice;

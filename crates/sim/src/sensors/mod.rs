@@ -10,6 +10,7 @@ pub mod raster;
 pub mod raycast;
 pub mod renderer;
 mod rounding;
+pub mod scan_slice;
 pub mod surface;
 
 pub use camera::{render_depth, render_rgb, CameraParams};
@@ -19,4 +20,5 @@ pub use gpu::{GpuError, GpuRenderer};
 pub use lidar::{Lidar, LidarParams};
 pub use raster::RasterScene;
 pub use raycast::RayScene;
+pub use scan_slice::ScanSlice;
 pub use renderer::{RenderError, Renderer, RendererKind};

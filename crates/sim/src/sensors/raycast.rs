@@ -1,11 +1,16 @@
 //! The scene as a parry3d triangle mesh with its BVH, for ray casting (CPU reference path).
 
 use super::mipmap::footprint;
+use super::scan_slice::ScanSlice;
 use super::surface::{barycentric, SurfaceTri, Surfaces};
 use crate::scene::Scene;
 use parry3d::math::Vector;
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{TriMesh, TriMeshFlags};
+use std::sync::{Arc, Mutex};
+
+/// Planes' slices kept for [`RayScene::slice`] (a building's storeys).
+const SLICES_KEPT: usize = 8;
 
 /// The scene's triangles for ray queries, built once and shared (it is `Sync`).
 pub struct RayScene {
@@ -14,6 +19,8 @@ pub struct RayScene {
     surf: Vec<SurfaceTri>,
     /// The scene's materials and textures.
     surfaces: Surfaces,
+    /// Horizontal slices cut so far, newest last (see [`RayScene::slice`]).
+    slices: Mutex<Vec<Arc<ScanSlice>>>,
 }
 
 impl std::fmt::Debug for RayScene {
@@ -33,7 +40,25 @@ impl RayScene {
             indices.extend(m.indices.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
         }
         let (surf, surfaces) = (Surfaces::triangles(scene), Surfaces::new(scene));
-        TriMesh::with_flags(vertices, indices, TriMeshFlags::empty()).ok().map(|mesh| RayScene { mesh, surf, surfaces })
+        TriMesh::with_flags(vertices, indices, TriMeshFlags::empty()).ok().map(|mesh| RayScene { mesh, surf, surfaces, slices: Mutex::new(Vec::new()) })
+    }
+
+    /// The scene cut by the horizontal plane at height `z` (m), for planar lidar rays: the
+    /// same hits as [`RayScene::cast`] along horizontal rays at that height (parry3d casts at
+    /// `z` rounded to `f32`, and so does the cut). Cut once per height and kept.
+    pub fn slice(&self, z: f64) -> Arc<ScanSlice> {
+        let z = z as f32 as f64;
+        let mut kept = self.slices.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(s) = kept.iter().find(|s| s.z == z) {
+            return s.clone();
+        }
+        let vertices: Vec<[f32; 3]> = self.mesh.vertices().iter().map(|v| [v.x, v.y, v.z]).collect();
+        let slice = Arc::new(ScanSlice::new(&vertices, self.mesh.indices(), z));
+        if kept.len() == SLICES_KEPT {
+            kept.remove(0);
+        }
+        kept.push(slice.clone());
+        slice
     }
 
     /// Distance along `dir` (in units of `dir`'s length) to the first hit from `origin`,
