@@ -7,7 +7,7 @@
 //! 20 * (ratio - 0.98)^2 (so that easy, straight episodes are rare).
 
 use super::{Dataset, Episode, Goal};
-use crate::goal_field::GoalField;
+use crate::geodesic::geodesic_distance;
 use crate::navgrid::NavGrid;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -92,13 +92,14 @@ pub fn generate_episodes(
         }
         tries += 1;
         let Some(goal) = grid.sample_navigable_point(&cells, &mut rng) else { continue };
-        let field = GoalField::new(grid, &[goal.xy()]);
         for _ in 0..params.number_retries_per_target {
             let Some(start) = grid.sample_navigable_point(&all_cells, &mut rng) else { continue };
             if (start.z - goal.z).abs() > 0.5 {
                 continue;
             }
-            let d = field.distance(grid, start.xy());
+            // One pair query per start tried (most goals take a start or two): cheaper than
+            // a field towards the goal, and exact at both ends.
+            let d = geodesic_distance(grid, start.xy(), goal.xy());
             let euclid = start.xy().dist(goal.xy());
             if !keeps(d, euclid, params, &mut rng) {
                 continue;
@@ -203,7 +204,6 @@ fn episode(id: usize, scene_id: &str, start: xhab_types::Point3, goal: xhab_type
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geodesic::geodesic_distance;
     use crate::navgrid::AgentParams;
     use crate::scene::house::{generate_house, HouseParams};
 
