@@ -195,14 +195,13 @@ impl CornerGraph {
             sc.reset(self.len());
             let Scratch { dist, done, heap } = &mut *sc;
             // Entries: (key bits, node, whether the node's leg from `to` is still unverified).
-            for k in 0..self.len() {
-                if self.island[k] != ia {
-                    continue;
-                }
+            // The seeds are heapified at once (linear), not pushed one by one.
+            let mut seeds = std::mem::take(heap).into_vec();
+            seeds.extend((0..self.len()).filter(|&k| self.island[k] == ia).map(|k| {
                 let a = self.pos[k];
-                let key = dist2(g, a) + dist2(a, s);
-                heap.push(Reverse((key.to_bits(), k as u32, true)));
-            }
+                Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), k as u32, true))
+            }));
+            *heap = BinaryHeap::from(seeds);
             while let Some(Reverse((key, k, seed))) = heap.pop() {
                 let k = k as usize;
                 if done[k] {

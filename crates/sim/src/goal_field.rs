@@ -212,8 +212,15 @@ impl GoalField {
                 return Some(q);
             }
         }
-        cand.sort_by(order);
-        cand.into_iter().find(|&(_, q)| self.sees(grid, q, c)).map(|(_, q)| q)
+        // Then smallest first from a heap (built in linear time): the first seen usually
+        // comes long before the end, which a full sort would order for nothing.
+        let mut heap: BinaryHeap<Reverse<(u64, u32)>> = cand.into_iter().map(|(d, q)| Reverse((d.to_bits(), q))).collect();
+        while let Some(Reverse((_, q))) = heap.pop() {
+            if self.sees(grid, q, c) {
+                return Some(q);
+            }
+        }
+        None
     }
 
     /// Whether anchor `q` can be the first anchor of a shortest path from `p` (m).
