@@ -214,7 +214,7 @@ impl NavStack {
                         self.err_sum[1] += xhab_types::normalize_angle(pose.yaw - truth.yaw).abs();
                         self.err_n += 1;
                         self.last_fix = Some([err, spread]);
-                        tracing::debug!(t = inp.t, err, spread, yaw_err = xhab_types::normalize_angle(pose.yaw - truth.yaw), yaw_sd = estimate.variance[2].sqrt(), particles = a.len(), returns = scan.returns(), status = ?self.nav.status(), "amcl update");
+                        tracing::debug!(t = inp.t, err, spread, x = pose.x, y = pose.y, true_x = truth.x, true_y = truth.y, odom_x = inp.odom.x, odom_y = inp.odom.y, yaw_err = xhab_types::normalize_angle(pose.yaw - truth.yaw), yaw_sd = estimate.variance[2].sqrt(), particles = a.len(), returns = scan.returns(), status = ?self.nav.status(), "amcl update");
                     }
                 }
             }
