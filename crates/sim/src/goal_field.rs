@@ -167,6 +167,10 @@ impl GoalField {
         let mut bound = f64::INFINITY;
         let mut tried: [u32; 8] = [NONE; 8];
         let mut t = 0;
+        // Line-of-sight answers already worked out here, reused by the candidates below (the
+        // neighbours' best anchor comes up again among them, last).
+        let mut known: [(u32, bool); 8] = [(NONE, false); 8];
+        let mut nk = 0;
         for (dc, dr) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1)] {
             let (x, y) = (col + dc, row + dr);
             if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
@@ -181,10 +185,17 @@ impl GoalField {
             t += 1;
             let (p, d) = self.anchor(q);
             let total = d + dist2(p, c);
-            if total < bound && self.sees(grid, q, c) {
-                bound = total;
+            if total < bound {
+                let seen = self.sees(grid, q, c);
+                known[nk] = (q, seen);
+                nk += 1;
+                if seen {
+                    bound = total;
+                }
             }
         }
+        let known = &known[..nk];
+        let sees = |q: u32| known.iter().find(|e| e.0 == q).map_or_else(|| self.sees(grid, q, c), |e| e.1);
         let mut cand: Vec<(f64, u32)> = Vec::new();
         for (j, g) in self.goals.iter().enumerate() {
             if self.goal_island[j] == island {
@@ -208,7 +219,7 @@ impl GoalField {
         for _ in 0..8 {
             let k = (0..cand.len()).min_by(|&a, &b| order(&cand[a], &cand[b]))?;
             let (_, q) = cand.swap_remove(k);
-            if self.sees(grid, q, c) {
+            if sees(q) {
                 return Some(q);
             }
         }
@@ -216,7 +227,7 @@ impl GoalField {
         // comes long before the end, which a full sort would order for nothing.
         let mut heap: BinaryHeap<Reverse<(u64, u32)>> = cand.into_iter().map(|(d, q)| Reverse((d.to_bits(), q))).collect();
         while let Some(Reverse((_, q))) = heap.pop() {
-            if self.sees(grid, q, c) {
+            if sees(q) {
                 return Some(q);
             }
         }
