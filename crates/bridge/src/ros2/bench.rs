@@ -56,5 +56,7 @@ async fn run_all(world: Arc<World>, ds: &Dataset, cfg: &RunConfig, opts: &Ros2Be
     let mut sim = LockstepSim2::new(Names::plain("xhab_sim"), config, &mounts(cfg).laser_frame, timeout)?;
     tracing::debug!("ros2 bench: nodes up in {:.3} s", t_start.elapsed().as_secs_f64());
     let run = run_lockstep_dataset(&mut sim, &world, ds, cfg, first, "ROS 2", progress).await;
+    let t = sim.timing;
+    tracing::debug!(steps = t.steps, publish_s = t.publish_s, wait_s = t.wait_s, total_s = t_start.elapsed().as_secs_f64(), "ros2 bench: lock-step timing");
     finish_lockstep_run(run, stop_tx, agent, &mut stats_rx, cfg).await
 }
