@@ -98,6 +98,9 @@ pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
     [s[0][0] + t * d[0], s[0][1] + t * d[1]]
 }
 
+/// Rows of the grid one thread fills at a time in [`segment_distance_where`].
+const SEGMENT_BAND_ROWS: usize = 16;
+
 /// Exact distance (m, capped at `cap`) from each cell centre to the segments, and the index of
 /// the nearest segment of each cell within the cap (`u32::MAX` beyond it).
 pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap: f64) -> (Vec<f32>, Vec<u32>) {
@@ -110,38 +113,50 @@ pub(crate) fn segment_distance_where(
     spec: &super::raster::GridSpec,
     segs: &[Seg],
     cap: f64,
-    counts: impl Fn(usize, usize) -> bool,
+    counts: impl Fn(usize, usize) -> bool + Sync,
 ) -> (Vec<f32>, Vec<u32>) {
+    use rayon::prelude::*;
     let n = spec.w * spec.h;
     let mut dist = vec![cap as f32; n];
     let mut near = vec![u32::MAX; n];
     let mut best = vec![cap * cap; n];
-    for (k, s) in segs.iter().enumerate() {
-        let xmin = s[0][0].min(s[1][0]) - cap;
-        let xmax = s[0][0].max(s[1][0]) + cap;
-        let ymin = s[0][1].min(s[1][1]) - cap;
-        let ymax = s[0][1].max(s[1][1]) + cap;
-        let c0 = ((xmin - spec.x0) / spec.res - 0.5).ceil().max(0.0) as usize;
-        let c1 = ((xmax - spec.x0) / spec.res - 0.5).floor().min(spec.w as f64 - 1.0);
-        let r0 = ((ymin - spec.y0) / spec.res - 0.5).ceil().max(0.0) as usize;
-        let r1 = ((ymax - spec.y0) / spec.res - 0.5).floor().min(spec.h as f64 - 1.0);
-        if c1 < 0.0 || r1 < 0.0 {
-            continue;
-        }
-        for r in r0..=(r1 as usize) {
-            let py = spec.y0 + (r as f64 + 0.5) * spec.res;
-            for c in c0..=(c1 as usize) {
-                let px = spec.x0 + (c as f64 + 0.5) * spec.res;
-                let q = closest_on_segment([px, py], s);
-                let d2 = (q[0] - px).powi(2) + (q[1] - py).powi(2);
-                let i = r * spec.w + c;
-                if d2 < best[i] && counts(k, i) {
-                    best[i] = d2;
-                    near[i] = k as u32;
+    // Each segment's cells (those whose centre lies within `cap` of its bounding box).
+    let boxes: Vec<Option<(usize, usize, usize, usize)>> = segs
+        .iter()
+        .map(|s| {
+            let xmin = s[0][0].min(s[1][0]) - cap;
+            let xmax = s[0][0].max(s[1][0]) + cap;
+            let ymin = s[0][1].min(s[1][1]) - cap;
+            let ymax = s[0][1].max(s[1][1]) + cap;
+            let c0 = ((xmin - spec.x0) / spec.res - 0.5).ceil().max(0.0) as usize;
+            let c1 = ((xmax - spec.x0) / spec.res - 0.5).floor().min(spec.w as f64 - 1.0);
+            let r0 = ((ymin - spec.y0) / spec.res - 0.5).ceil().max(0.0) as usize;
+            let r1 = ((ymax - spec.y0) / spec.res - 0.5).floor().min(spec.h as f64 - 1.0);
+            (c1 >= 0.0 && r1 >= 0.0).then_some((c0, c1 as usize, r0, r1 as usize))
+        })
+        .collect();
+    // Bands of rows in parallel, each taking the segments in order (the same nearest segment
+    // per cell as one pass, any thread count).
+    let band = SEGMENT_BAND_ROWS * spec.w;
+    best.par_chunks_mut(band).zip(near.par_chunks_mut(band)).enumerate().for_each(|(b, (best, near))| {
+        let (b0, b1) = (b * SEGMENT_BAND_ROWS, ((b + 1) * SEGMENT_BAND_ROWS).min(spec.h));
+        for (k, s) in segs.iter().enumerate() {
+            let Some((c0, c1, r0, r1)) = boxes[k] else { continue };
+            for r in r0.max(b0)..=r1.min(b1 - 1) {
+                let py = spec.y0 + (r as f64 + 0.5) * spec.res;
+                for c in c0..=c1 {
+                    let px = spec.x0 + (c as f64 + 0.5) * spec.res;
+                    let q = closest_on_segment([px, py], s);
+                    let d2 = (q[0] - px).powi(2) + (q[1] - py).powi(2);
+                    let i = r * spec.w + c;
+                    if d2 < best[i - b0 * spec.w] && counts(k, i) {
+                        best[i - b0 * spec.w] = d2;
+                        near[i - b0 * spec.w] = k as u32;
+                    }
                 }
             }
         }
-    }
+    });
     for i in 0..n {
         if best[i] < cap * cap {
             dist[i] = best[i].sqrt() as f32;

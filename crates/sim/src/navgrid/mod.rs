@@ -19,6 +19,7 @@ pub(crate) use clearance::closest_on_segment;
 
 use crate::scene::Scene;
 use raster::GridSpec;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use xhab_types::{OccupancyGrid, Point2, Pose2, GRID_FREE, GRID_OCCUPIED, GRID_UNKNOWN};
 
@@ -123,6 +124,9 @@ pub struct NavGrid {
     pub(crate) corner_graph: std::sync::OnceLock<std::sync::Arc<crate::corner_graph::CornerGraph>>,
 }
 
+/// Rows of the grid one thread rasterises at a time in [`NavGrid::build_storey`].
+const RASTER_BAND_ROWS: usize = 16;
+
 impl NavGrid {
     /// The geodesic field of `goals` on this grid, shared with whoever asked for the same
     /// goals lately in this process.
@@ -174,6 +178,11 @@ impl NavGrid {
         // cell is inside a closed solid: a shelf, a wall's core).
         let mut roof = vec![(f32::INFINITY, false); n];
         let mut segs = Vec::new();
+        // The triangles that matter (walkable, in the body band, or above it), in scene order,
+        // each with its flags and rows; then bands of rows are filled in parallel, every band
+        // taking its triangles in scene order (the same cells as one pass, any thread count).
+        let mut tris: Vec<([[f64; 3]; 3], bool, bool)> = Vec::new();
+        let mut in_bands: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(RASTER_BAND_ROWS)];
         for t in scene.triangles() {
             let t = t.map(|p| p.map(|v| v as f64));
             let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
@@ -185,26 +194,47 @@ impl NavGrid {
             if !walkable && !in_band && !above {
                 continue;
             }
-            let faces_up = raster::normal_z_sign(&t) > 0.0;
-            raster::for_each_cell(&spec, &t, |c, r, lo, hi| {
-                let i = r * w + c;
-                if lo >= band_hi && (lo as f32) < roof[i].0 {
-                    roof[i] = (lo as f32, faces_up);
-                }
-                if walkable && hi >= ground_lo && lo <= ground_hi {
-                    let g = hi.min(ground_hi) as f32;
-                    if ground[i].is_nan() || g > ground[i] {
-                        ground[i] = g;
-                    }
-                }
-                if hi > band_lo && lo < band_hi {
-                    occupied[i] = true;
-                }
-            });
             if in_band {
                 clearance::band_segments(&t, band_lo, band_hi, &mut segs);
             }
+            let (ymin, ymax) = (t[0][1].min(t[1][1]).min(t[2][1]), t[0][1].max(t[1][1]).max(t[2][1]));
+            let r0 = ((ymin - y0) / res).floor();
+            let r1 = ((ymax - y0) / res).floor();
+            if r1 < 0.0 || r0 >= h as f64 {
+                continue;
+            }
+            let (r0, r1) = (r0.max(0.0) as usize, (r1 as usize).min(h - 1));
+            let k = tris.len() as u32;
+            tris.push((t, walkable, raster::normal_z_sign(&t) > 0.0));
+            for b in r0 / RASTER_BAND_ROWS..=r1 / RASTER_BAND_ROWS {
+                in_bands[b].push(k);
+            }
         }
+        let band = RASTER_BAND_ROWS * w;
+        ground.par_chunks_mut(band).zip(occupied.par_chunks_mut(band)).zip(roof.par_chunks_mut(band)).zip(in_bands.par_iter()).enumerate().for_each(
+            |(b, (((ground, occupied), roof), list))| {
+                let rows = b * RASTER_BAND_ROWS..((b + 1) * RASTER_BAND_ROWS).min(h);
+                let first = rows.start * w;
+                for &k in list {
+                    let (t, walkable, faces_up) = &tris[k as usize];
+                    raster::for_each_cell_in_rows(&spec, t, 0.0, rows.clone(), |c, r, lo, hi| {
+                        let i = r * w + c - first;
+                        if lo >= band_hi && (lo as f32) < roof[i].0 {
+                            roof[i] = (lo as f32, *faces_up);
+                        }
+                        if *walkable && hi >= ground_lo && lo <= ground_hi {
+                            let g = hi.min(ground_hi) as f32;
+                            if ground[i].is_nan() || g > ground[i] {
+                                ground[i] = g;
+                            }
+                        }
+                        if hi > band_lo && lo < band_hi {
+                            occupied[i] = true;
+                        }
+                    });
+                }
+            },
+        );
         if ground.iter().all(|g| g.is_nan()) {
             return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
         }

@@ -75,7 +75,16 @@ pub(crate) fn for_each_cell(g: &GridSpec, tri: &[[f64; 3]; 3], f: impl FnMut(usi
 /// [`for_each_cell`] with each column shrunk by `inset` (m) on every side: with a small inset,
 /// a face lying on a cell's boundary touches neither cell (the walking surfaces of a storey
 /// with stairs: a tread's edge on a boundary is not ground for the cell beyond it).
-pub(crate) fn for_each_cell_inset(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64, mut f: impl FnMut(usize, usize, f64, f64)) {
+pub(crate) fn for_each_cell_inset(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64, f: impl FnMut(usize, usize, f64, f64)) {
+    for_each_cell_in_rows(g, tri, inset, 0..g.h, f)
+}
+
+/// The rows `rows.start..rows.end` of a triangle's [`for_each_cell_inset`] (a band of the grid
+/// that one thread fills; the same cells and height ranges as the whole call gives there).
+pub(crate) fn for_each_cell_in_rows(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64, rows: std::ops::Range<usize>, mut f: impl FnMut(usize, usize, f64, f64)) {
+    if rows.is_empty() {
+        return;
+    }
     let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for p in tri {
         xmin = xmin.min(p[0]);
@@ -93,14 +102,16 @@ pub(crate) fn for_each_cell_inset(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64,
     let (c1, r1) = (c1 as usize, r1 as usize);
     // Whole triangle inside one cell: no clipping needed.
     if c0 == c1 && r0 == r1 && inset == 0.0 {
-        if let Some((lo, hi)) = z_range(tri) {
-            f(c0, r0, lo, hi);
+        if rows.contains(&r0) {
+            if let Some((lo, hi)) = z_range(tri) {
+                f(c0, r0, lo, hi);
+            }
         }
         return;
     }
     let mut row_poly: Poly = Vec::with_capacity(8);
     let mut cell_poly: Poly = Vec::with_capacity(10);
-    for r in r0..=r1 {
+    for r in r0.max(rows.start)..=r1.min(rows.end.saturating_sub(1)) {
         let ylo = g.y0 + r as f64 * g.res;
         clip_slab(tri, 1, ylo + inset, ylo + g.res - inset, &mut row_poly);
         if row_poly.is_empty() {
@@ -179,5 +190,31 @@ mod tests {
         });
         // 10 rows: row r touches cells c with c*0.1 < 1 - r*0.1, i.e. 10 - r cells, plus the diagonal ones.
         assert!((55..=65).contains(&n), "{n}");
+    }
+
+    #[test]
+    fn bands_of_rows_give_the_whole_calls_cells_bit_for_bit() {
+        let g = GridSpec { x0: -0.3, y0: 0.17, res: 0.05, w: 40, h: 37 };
+        let tris = [
+            [[-0.2, 0.2, 0.1], [1.5, 0.4, 0.9], [0.3, 1.9, 0.4]],
+            [[0.51, 0.9, 0.0], [0.53, 0.91, 0.7], [0.52, 0.92, 0.3]],
+            // Within one cell, and reaching past the grid's edges.
+            [[0.01, 0.3, 0.2], [0.02, 0.31, 0.2], [0.015, 0.32, 0.5]],
+            [[-1.0, -1.0, 0.0], [3.0, 0.5, 1.0], [0.5, 3.0, 2.0]],
+        ];
+        for t in &tris {
+            let mut whole = Vec::new();
+            for_each_cell(&g, t, |c, r, lo, hi| whole.push((c, r, lo.to_bits(), hi.to_bits())));
+            for band in [1, 5, 16, 64] {
+                let mut banded = Vec::new();
+                for b in 0..g.h.div_ceil(band) {
+                    for_each_cell_in_rows(&g, t, 0.0, b * band..((b + 1) * band).min(g.h), |c, r, lo, hi| banded.push((c, r, lo.to_bits(), hi.to_bits())));
+                }
+                assert_eq!(banded, whole, "band {band}");
+            }
+            let mut none = 0;
+            for_each_cell_in_rows(&g, t, 0.0, 3..3, |_, _, _, _| none += 1);
+            assert_eq!(none, 0);
+        }
     }
 }
