@@ -2,7 +2,8 @@
 //! so that regressions show up run to run: per scene, benchmarks named after the JSON fields
 //! they stand for (`map_build` for `map_build_s`, `geodesic_pair_queries` for
 //! `geodesic_pair_queries_per_s`, ...), each timing one operation as `xhab_bridge::scene_perf`
-//! does. Scenes: the procedural house (always) and `scenes/turtlebot3_house.glb` from the
+//! does; and `lidar_scan`, one scan of the navigation loop (part of `nav_real_time_factor`,
+//! which is too long a run for a criterion sample). Scenes: the procedural house (always) and `scenes/turtlebot3_house.glb` from the
 //! shared data (`$XHAB_DATA`, else `../shared`) when it is there. Rendering uses the CPU
 //! rasteriser at 256 x 256 (the same renderer on every machine). Sample sizes are small, so
 //! the whole suite runs in a few minutes; `cargo bench -p xhab-bridge --bench perf -- NAME`
@@ -159,6 +160,17 @@ fn bench_scene(c: &mut Criterion, name: &str, arg: &str) {
     let mut lidar = xhab_sim::sensors::Lidar::new(xhab_sim::sensors::LidarParams { beams: 360, ..Default::default() }, 2);
     let scan = lidar.scan(&rs, pose, grid.floor_z);
     amcl.update(pose, &scan, xhab_types::Pose2::default());
+    // The lidar scan the navigation loop takes every 0.1 s (360 beams against the scene's cut
+    // at the scan plane), from a new pose each time.
+    let mut q = 0usize;
+    g.bench_function("lidar_scan", |b| {
+        b.iter(|| {
+            q += 1;
+            let p = points[q % points.len()];
+            black_box(lidar.scan(&rs, xhab_types::Pose2::new(p.x, p.y, q as f64 * 0.1), grid.floor_z))
+        })
+    });
+
     let mut m = 0u32;
     g.bench_function("amcl_update", |b| {
         b.iter(|| {
