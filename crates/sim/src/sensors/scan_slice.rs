@@ -7,8 +7,10 @@
 //! part of the cost of a 3D BVH query against every triangle. Triangles lying in the plane
 //! are dropped, as a 3D ray along a triangle's plane does not hit it either.
 
-/// Side of a bucket of the grid (m).
+/// Side of a bucket of the grid (m), unless the slice is wider than [`MAX_BUCKETS`] of them.
 const CELL: f64 = 0.25;
+/// Most buckets along either axis (a vast terrain gets larger buckets, not gigabytes).
+const MAX_BUCKETS: usize = 4096;
 
 /// The segments a horizontal plane cuts from the scene's triangles, bucketed for ray walks.
 #[derive(Debug, Clone)]
@@ -19,6 +21,8 @@ pub struct ScanSlice {
     segments: Vec<[f64; 4]>,
     /// Grid origin: the lower-left corner of bucket (0, 0) (m).
     origin: [f64; 2],
+    /// Side of a bucket (m).
+    cell: f64,
     /// Buckets along x and y.
     dims: [usize; 2],
     /// Bucket `i`'s segments are `items[starts[i]..starts[i + 1]]` (row-major, x fastest).
@@ -38,14 +42,15 @@ impl ScanSlice {
             }
         }
         if segments.is_empty() {
-            return ScanSlice { z, segments, origin: [0.0; 2], dims: [0; 2], starts: vec![0], items: Vec::new() };
+            return ScanSlice { z, segments, origin: [0.0; 2], cell: CELL, dims: [0; 2], starts: vec![0], items: Vec::new() };
         }
-        let dims = [((hi[0] - lo[0]) / CELL).floor() as usize + 1, ((hi[1] - lo[1]) / CELL).floor() as usize + 1];
+        let cell = CELL.max((hi[0] - lo[0]).max(hi[1] - lo[1]) / (MAX_BUCKETS - 1) as f64);
+        let dims = [((hi[0] - lo[0]) / cell).floor() as usize + 1, ((hi[1] - lo[1]) / cell).floor() as usize + 1];
         let origin = lo;
         // Each segment goes into every bucket its bounding box overlaps (a superset of the
         // buckets it crosses; the ray test decides).
         let span = |s: &[f64; 4]| {
-            let c = |v: f64, o: f64, n: usize| (((v - o) / CELL).floor().max(0.0) as usize).min(n - 1);
+            let c = |v: f64, o: f64, n: usize| (((v - o) / cell).floor().max(0.0) as usize).min(n - 1);
             let (x0, x1) = (c(s[0].min(s[2]), origin[0], dims[0]), c(s[0].max(s[2]), origin[0], dims[0]));
             let (y0, y1) = (c(s[1].min(s[3]), origin[1], dims[1]), c(s[1].max(s[3]), origin[1], dims[1]));
             (x0, x1, y0, y1)
@@ -75,7 +80,7 @@ impl ScanSlice {
                 }
             }
         }
-        ScanSlice { z, segments, origin, dims, starts, items }
+        ScanSlice { z, segments, origin, cell, dims, starts, items }
     }
 
     /// Number of segments the plane cut.
@@ -95,7 +100,7 @@ impl ScanSlice {
             return None;
         }
         let [nx, ny] = self.dims;
-        let hi = [self.origin[0] + nx as f64 * CELL, self.origin[1] + ny as f64 * CELL];
+        let hi = [self.origin[0] + nx as f64 * self.cell, self.origin[1] + ny as f64 * self.cell];
         // Clip the ray to the grid's box (slabs).
         let (mut t0, mut t1) = (0.0f64, max_t);
         for a in 0..2 {
@@ -118,15 +123,15 @@ impl ScanSlice {
         let (mut step, mut t_next, mut t_delta) = ([0isize; 2], [f64::INFINITY; 2], [f64::INFINITY; 2]);
         for a in 0..2 {
             let n = self.dims[a];
-            cell[a] = (((start[a] - self.origin[a]) / CELL).floor().max(0.0) as usize).min(n - 1);
+            cell[a] = (((start[a] - self.origin[a]) / self.cell).floor().max(0.0) as usize).min(n - 1);
             if dir[a] > 0.0 {
                 step[a] = 1;
-                t_next[a] = (self.origin[a] + (cell[a] + 1) as f64 * CELL - origin[a]) / dir[a];
-                t_delta[a] = CELL / dir[a];
+                t_next[a] = (self.origin[a] + (cell[a] + 1) as f64 * self.cell - origin[a]) / dir[a];
+                t_delta[a] = self.cell / dir[a];
             } else if dir[a] < 0.0 {
                 step[a] = -1;
-                t_next[a] = (self.origin[a] + cell[a] as f64 * CELL - origin[a]) / dir[a];
-                t_delta[a] = -CELL / dir[a];
+                t_next[a] = (self.origin[a] + cell[a] as f64 * self.cell - origin[a]) / dir[a];
+                t_delta[a] = -self.cell / dir[a];
             }
         }
         let mut best = f64::INFINITY;
@@ -226,6 +231,19 @@ mod tests {
         // From outside the grid, walking in.
         let t = s.cast([-5.0, 0.5], [1.0, 0.0], 10.0).unwrap();
         assert!((t - 3.5).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn a_vast_slice_gets_larger_buckets_and_the_same_hits() {
+        let (mut v, mut i) = (Vec::new(), Vec::new());
+        wall(2.0, &mut v, &mut i);
+        wall(20_000.0, &mut v, &mut i);
+        let s = ScanSlice::new(&v, &i, 0.5);
+        assert!(s.dims[0] <= MAX_BUCKETS && s.dims[1] <= MAX_BUCKETS && s.cell > CELL, "{:?} {}", s.dims, s.cell);
+        let t = s.cast([0.0, 0.0], [1.0, 0.0], 100.0).unwrap();
+        assert!((t - 2.0).abs() < 1e-12, "{t}");
+        let t = s.cast([3.0, 0.5], [1.0, 0.0], 1e6).unwrap();
+        assert!((t - 19_997.0).abs() < 1e-9, "{t}");
     }
 
     #[test]
