@@ -166,7 +166,7 @@ pub struct Navigator {
     /// Returns (readings within the laser's limits) in the last scan the localisation saw;
     /// `None` until told.
     scan_returns: Option<usize>,
-    /// Whether the scans seen so far cover the full circle (a 360-degree lidar).
+    /// Whether the last scan covered the full circle (a 360-degree lidar).
     scan_full_circle: bool,
     /// Whether the last cycle held still to refine (see [`Navigator::wants_nomotion_update`]).
     holding: bool,
