@@ -197,9 +197,6 @@ impl NavStack {
         if let Some(scan) = inp.scan {
             self.scans.taken += 1;
             if let Some(a) = self.amcl.as_mut() {
-                if self.nav.wants_nomotion_update() {
-                    a.request_nomotion_update();
-                }
                 if a.update(inp.odom, scan, inp.scan_mount) {
                     let (estimate, m2o) = a.estimate_and_map_to_odom();
                     self.map_to_odom = m2o;

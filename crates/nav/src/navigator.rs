@@ -166,10 +166,6 @@ pub struct Navigator {
     /// Returns (readings within the laser's limits) in the last scan the localisation saw;
     /// `None` until told.
     scan_returns: Option<usize>,
-    /// Whether the last scan covered the full circle (a 360-degree lidar).
-    scan_full_circle: bool,
-    /// Whether the last cycle held still to refine (see [`Navigator::wants_nomotion_update`]).
-    holding: bool,
 }
 
 impl Navigator {
@@ -196,8 +192,6 @@ impl Navigator {
             spread: 0.0,
             approach_since: None,
             scan_returns: None,
-            scan_full_circle: false,
-            holding: false,
         }
     }
 
@@ -215,14 +209,6 @@ impl Navigator {
         self.scan_returns = Some(returns);
     }
 
-    /// Whether the navigator holds still at the goal to refine an unsure estimate and asks
-    /// the localisation for updates without motion (amcl's `request_nomotion_update`): with
-    /// a scan covering the full circle, turning in place shows nothing new and only adds the
-    /// motion model's noise.
-    pub fn wants_nomotion_update(&self) -> bool {
-        self.holding
-    }
-
     /// Why the navigator gave up (once [`NavStatus::Aborted`]).
     pub fn abort_reason(&self) -> Option<AbortReason> {
         self.abort_reason
@@ -238,8 +224,6 @@ impl Navigator {
     /// Feeds a laser scan taken at `sensor` (world frame, as the robot believes) into the
     /// obstacle layer; from then on the controller works on the rolling local costmap.
     pub fn add_scan(&mut self, scan: &xhab_types::LaserScan, sensor: Pose2) {
-        let span = scan.angle_max - scan.angle_min + scan.angle_increment.abs();
-        self.scan_full_circle = span >= std::f64::consts::TAU - 1e-6;
         if let Some(l) = self.layers.as_mut() {
             l.add_scan(scan, sensor);
         }
@@ -288,7 +272,6 @@ impl Navigator {
 
     /// One control cycle at time `now` (s) with the robot at `pose` moving at `vel`.
     pub fn tick(&mut self, now: f64, pose: Pose2, vel: Twist) -> NavCommand {
-        self.holding = false;
         let stop = |status| NavCommand { twist: Twist::default(), status };
         let (Some(goal), true) = (self.goal, self.layers.is_some()) else { return stop(NavStatus::Idle) };
         if matches!(self.status, NavStatus::Succeeded | NavStatus::Aborted | NavStatus::Idle) {
@@ -384,10 +367,8 @@ impl Navigator {
 
     /// The final approach at time `now` from `pose` to `goal`: straight, checked on the
     /// footprint alone. `refine`: the estimate is within tolerance but not sure enough, so it
-    /// drives down to `refine_distance` and then, with a scan covering the full circle, holds
-    /// still asking for updates without motion ([`Navigator::wants_nomotion_update`]), else
-    /// turns in place (the localisation updates on turning), until sure or out of time, when
-    /// it stops on the estimate; where the last scan
+    /// drives down to `refine_distance` and then turns in place (the localisation updates on
+    /// turning) until sure or out of time, when it stops on the estimate; where the last scan
     /// had no return at all, turning cannot help and it stops on the estimate at once (see
     /// [`Navigator::set_scan_returns`]). Otherwise the plan
     /// ended short of a goal the costmap blocks; blocked or out of time, that is the goal
@@ -419,10 +400,6 @@ impl Navigator {
         self.status = NavStatus::Controlling;
         match command {
             Some(t) if !timed_out => NavCommand { twist: t, status: self.status },
-            _ if refine && self.scan_full_circle => {
-                self.holding = true;
-                NavCommand { twist: Twist::default(), status: self.status }
-            }
             _ if refine => NavCommand { twist: Twist { linear: 0.0, angular: 0.5 * self.params.move_base.recovery_rotation_speed }, status: self.status },
             _ => {
                 self.approach_since = None;
@@ -723,63 +700,5 @@ mod tests {
         let (s, p) = simulate_with(&mut nav, &room(false, false), Pose2::new(1.0, 1.0, 0.0), goal, 90.0, 0.09);
         assert_eq!(s, NavStatus::Succeeded);
         assert!(p.position().dist(goal) <= params.goal_approach.refine_distance + 1e-9, "{p:?}");
-    }
-
-    #[test]
-    fn an_unsure_refine_with_a_full_circle_scan_holds_still_and_asks_for_updates() {
-        // With a 360-degree scan, turning in place shows the localisation nothing new: at
-        // refine_distance the robot holds still and asks for updates without motion, until
-        // sure (the spread falls) or out of time. A narrower scan still turns.
-        let goal = Point2::new(4.0, 4.0);
-        let mut params = NavParams::default();
-        params.goal_approach.success_radius = 0.2;
-        let scan = |beams: usize, fov: f64| xhab_types::LaserScan { angle_min: -fov / 2.0, angle_max: -fov / 2.0 + fov * (beams - 1) as f64 / beams as f64, angle_increment: fov / beams as f64, range_min: 0.1, range_max: 3.5, ranges: vec![f32::NAN; beams] };
-        let run = |scan: &xhab_types::LaserScan, sure_after: Option<usize>| {
-            let mut nav = Navigator::new(params.clone());
-            nav.set_map(&room(false, false));
-            nav.set_goal(goal, 0.0);
-            nav.set_localization_spread(0.09);
-            nav.set_scan_returns(40);
-            let (mut pose, mut vel, dt) = (Pose2::new(1.0, 1.0, 0.0), Twist::default(), 0.05);
-            let (mut t, mut held, mut turned, mut asked) = (0.0, 0, 0, 0);
-            while t < 90.0 {
-                nav.add_scan(scan, pose);
-                if nav.wants_nomotion_update() {
-                    asked += 1;
-                    if sure_after.is_some_and(|n| asked >= n) {
-                        nav.set_localization_spread(0.02);
-                    }
-                }
-                let cmd = nav.tick(t, pose, vel);
-                if matches!(cmd.status, NavStatus::Succeeded | NavStatus::Aborted) {
-                    return (cmd.status, pose, held, turned, t);
-                }
-                vel = cmd.twist;
-                if pose.position().dist(goal) <= params.goal_approach.refine_distance {
-                    if vel.linear == 0.0 && vel.angular == 0.0 {
-                        held += 1;
-                    } else if vel.angular != 0.0 {
-                        turned += 1;
-                    }
-                }
-                pose = Pose2::new(pose.x + vel.linear * pose.yaw.cos() * dt, pose.y + vel.linear * pose.yaw.sin() * dt, pose.yaw + vel.angular * dt);
-                t += dt;
-            }
-            (nav.status(), pose, held, turned, t)
-        };
-        let full = scan(360, std::f64::consts::TAU);
-        // Never sure: holds still until out of time (15 s), then stops on the estimate.
-        let (s, p, held, turned, _) = run(&full, None);
-        assert_eq!(s, NavStatus::Succeeded);
-        assert!(p.position().dist(goal) <= params.goal_approach.refine_distance + 1e-9, "{p:?}");
-        assert!(held as f64 * 0.05 >= 14.0 && turned == 0, "held {held}, turned {turned}");
-        // Sure after ten updates without motion: stops then.
-        let (s, _, held, _, _) = run(&full, Some(10));
-        assert_eq!(s, NavStatus::Succeeded);
-        assert!((10..=12).contains(&held), "held {held}");
-        // A camera's 60-degree scan: turns in place as before.
-        let (s, _, held, turned, _) = run(&scan(60, 1.05), None);
-        assert_eq!(s, NavStatus::Succeeded);
-        assert!(held == 0 && turned as f64 * 0.05 >= 14.0, "held {held}, turned {turned}");
     }
 }

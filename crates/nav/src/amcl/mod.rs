@@ -151,8 +151,6 @@ pub struct Amcl {
     updates: u32,
     w_slow: f64,
     w_fast: f64,
-    /// An update is due at the next scan whatever the motion (`request_nomotion_update`).
-    force_update: bool,
 }
 
 /// Normal quantile (inverse CDF) by Acklam's rational approximation (|error| < 1.2e-9).
@@ -195,7 +193,7 @@ impl Amcl {
         let map = &*map.axis_aligned();
         let laser = LaserModel::new(map, &params);
         let free_cells = (0..map.data.len()).filter(|&i| map.data[i] == GRID_FREE).collect();
-        Self { params, map: map.clone(), laser, free_cells, particles: Vec::new(), rng: ChaCha8Rng::seed_from_u64(seed), last_odom: None, updates: 0, w_slow: 0.0, w_fast: 0.0, force_update: false }
+        Self { params, map: map.clone(), laser, free_cells, particles: Vec::new(), rng: ChaCha8Rng::seed_from_u64(seed), last_odom: None, updates: 0, w_slow: 0.0, w_fast: 0.0 }
     }
 
     /// Spreads `max_particles / 2` particles around `pose` with standard deviations
@@ -247,13 +245,13 @@ impl Amcl {
 
     /// One step, fed every scan with the odometry pose at its time: when the robot has moved
     /// `update_min_d` or turned `update_min_a` since the last filter update (or this is the
-    /// first scan after an initialisation, or [`Amcl::request_nomotion_update`] asked), moves the particles by the odometry change, weighs
+    /// first scan after an initialisation), moves the particles by the odometry change, weighs
     /// them against `scan` (taken by a laser at `laser` in the base frame) and resamples every
     /// `resample_interval` updates. Returns whether the filter updated.
     pub fn update(&mut self, odom: Pose2, scan: &LaserScan, laser: Pose2) -> bool {
         if let Some(last) = self.last_odom {
             let delta = last.inverse().compose(odom);
-            if !self.force_update && delta.x.hypot(delta.y) < self.params.update_min_d && normalize_angle(delta.yaw).abs() < self.params.update_min_a {
+            if delta.x.hypot(delta.y) < self.params.update_min_d && normalize_angle(delta.yaw).abs() < self.params.update_min_a {
                 return false;
             }
             let p = &self.params;
@@ -262,7 +260,6 @@ impl Amcl {
                 self.particles[k].0 = m.sample(self.particles[k].0, &mut self.rng);
             }
         }
-        self.force_update = false;
         self.last_odom = Some(odom);
         self.sense(scan, laser);
         self.updates += 1;
@@ -270,13 +267,6 @@ impl Amcl {
             self.resample();
         }
         true
-    }
-
-    /// Makes the next [`Amcl::update`] run whatever the motion since the last one (amcl's
-    /// `request_nomotion_update` service): the motion model applies the small motion there
-    /// was, then the scan weighs the particles as usual.
-    pub fn request_nomotion_update(&mut self) {
-        self.force_update = true;
     }
 
     /// Whether every particle lies within 0.5 m (in x and in y) of the weighted mean, as
@@ -618,27 +608,5 @@ mod tests {
         assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()), "no motion: no update");
         let moved = truth.compose(Pose2::new(0.25, 0.0, 0.0));
         assert!(amcl.update(moved, &scan(&map, moved), Pose2::default()));
-    }
-
-    #[test]
-    fn a_nomotion_update_runs_once_when_asked_and_narrows_the_cloud() {
-        let map = room();
-        let mut amcl = Amcl::new(&map, AmclParams::default(), 3);
-        let truth = Pose2::new(2.0, 1.5, 0.3);
-        amcl.init(truth, 0.3, 0.1);
-        assert!(amcl.update(truth, &scan(&map, truth), Pose2::default()));
-        let spread = |a: &Amcl| {
-            let v = a.estimate().variance;
-            (v[0] + v[1]).sqrt()
-        };
-        let before = spread(&amcl);
-        for _ in 0..10 {
-            assert!(!amcl.update(truth, &scan(&map, truth), Pose2::default()), "not asked: no update");
-            amcl.request_nomotion_update();
-            assert!(amcl.update(truth, &scan(&map, truth), Pose2::default()), "asked: an update");
-        }
-        let after = spread(&amcl);
-        assert!(after < 0.5 * before, "spread {before} -> {after}");
-        assert!(amcl.estimate().pose.position().dist(truth.position()) < 0.1);
     }
 }
