@@ -57,6 +57,8 @@ pub(crate) struct LaserModel {
     log_pz: Option<(f64, Vec<f32>, f32)>,
     /// Per cell: whether a ray-cast beam stops there (occupied or unknown, as ROS's map_calc_range).
     stops: Vec<bool>,
+    /// Per cell: occupied (what a beam without a return says is not along it).
+    occupied: Vec<bool>,
     origin: (f64, f64),
     res: f64,
     size: (i64, i64),
@@ -67,8 +69,24 @@ pub(crate) struct LaserModel {
 /// over every beam, returns or not, so a robot far from the walls of a large room uses few or
 /// none of its returns).
 fn valid_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
-    let valid: Vec<usize> = (0..scan.ranges.len()).filter(|&i| scan.is_return(i)).collect();
-    let m = max_beams.max(1);
+    evenly((0..scan.ranges.len()).filter(|&i| scan.is_return(i)).collect(), max_beams)
+}
+
+/// Whether beam `i` of `scan` saw nothing within `range_max`: NaN (xhab's sensors, no hit),
+/// +inf (REP 117) or at least `range_max`. A reading below `range_min` says nothing.
+fn is_clear(scan: &LaserScan, i: usize) -> bool {
+    let r = scan.ranges[i] as f64;
+    r.is_nan() || r >= scan.range_max
+}
+
+/// Indices of at most `max_beams` evenly spaced beams without a return ([`is_clear`]).
+fn clear_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
+    evenly((0..scan.ranges.len()).filter(|&i| is_clear(scan, i)).collect(), max_beams)
+}
+
+/// At most `max` (at least 1) evenly spaced items of `valid`.
+fn evenly(valid: Vec<usize>, max: usize) -> Vec<usize> {
+    let m = max.max(1);
     if valid.len() <= m {
         return valid;
     }
@@ -99,11 +117,13 @@ impl LaserModel {
             })
             .collect();
         let stops = map.data.iter().map(|&v| v != GRID_FREE).collect();
+        let occupied = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
         LaserModel {
             field,
             far: (-(max * max) / s2).exp() as f32,
             log_pz: None,
             stops,
+            occupied,
             origin: (map.origin.x, map.origin.y),
             res: map.resolution,
             size: (map.width as i64, map.height as i64),
@@ -150,7 +170,10 @@ impl LaserModel {
             .collect();
         match p.laser_model_type {
             LaserModelType::LikelihoodField => self.weigh_cubed(p, scan, laser, &beams, particles),
-            LaserModelType::LikelihoodFieldProb => self.weigh_prob(p, scan, laser, &beams, particles, converged),
+            LaserModelType::LikelihoodFieldProb => {
+                let clear: Vec<f64> = if p.laser_no_return_likelihood < 1.0 { clear_beams(scan, max_beams).into_iter().map(|i| scan.angle(i)).collect() } else { Vec::new() };
+                self.weigh_prob(p, scan, laser, &beams, &clear, particles, converged)
+            }
             LaserModelType::Beam => self.weigh_beam(p, scan, laser, &beams, particles),
         }
     }
@@ -174,7 +197,11 @@ impl LaserModel {
     }
 
     /// Likelihood field, product of the beams' `pz`, with beam skipping once converged.
-    fn weigh_prob(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
+    /// Beams without a return (`clear`, their bearings) count too: one whose ray crosses an
+    /// occupied cell short of `range_max` (less `2 laser_sigma_hit` for the range noise) has
+    /// likelihood `laser_no_return_likelihood`, a clear one 1.
+    #[allow(clippy::too_many_arguments)]
+    fn weigh_prob(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], clear: &[f64], particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
         let z_rand = p.laser_z_rand / scan.range_max.max(1e-6);
         if self.log_pz.as_ref().is_none_or(|l| l.0 != scan.range_max) {
             let f = |v: f32| (p.laser_z_hit * v as f64 + z_rand).ln() as f32;
@@ -211,6 +238,15 @@ impl LaserModel {
             let all = skipped as f64 >= nb as f64 * p.beam_skip_error_threshold;
             for (k, l) in logp.iter_mut().enumerate() {
                 *l = (0..nb).filter(|&j| all || keep[j]).map(|j| log_all[k * nb + j]).sum();
+            }
+        }
+        if !clear.is_empty() {
+            let miss = p.laser_no_return_likelihood.max(1e-300).ln();
+            let len = scan.range_max - 2.0 * p.laser_sigma_hit;
+            for (k, (pose, _)) in particles.iter().enumerate() {
+                let lp = pose.compose(laser);
+                let blocked = clear.iter().filter(|&&b| self.ray_blocked(lp.x, lp.y, lp.yaw + b, len)).count();
+                logp[k] += blocked as f64 * miss;
             }
         }
         // Scaled by the largest likelihood so that many beams cannot underflow every weight.
@@ -255,6 +291,19 @@ impl LaserModel {
     /// Distance from (x, y) along heading `a` to the first cell a beam stops in (occupied,
     /// unknown or off the map), capped at `max` (m); exact grid traversal.
     fn ray_range(&self, x: f64, y: f64, a: f64, max: f64) -> f64 {
+        self.march(x, y, a, max, &self.stops).0.min(max)
+    }
+
+    /// Whether the ray from (x, y) along heading `a` crosses an occupied cell within `len`
+    /// (m) before it leaves the map.
+    fn ray_blocked(&self, x: f64, y: f64, a: f64, len: f64) -> bool {
+        self.march(x, y, a, len, &self.occupied).1
+    }
+
+    /// Walks the cells the ray from (x, y) along heading `a` crosses (exact grid traversal)
+    /// up to `max` (m): the distance where it stopped and whether a cell of `mask` stopped it
+    /// (false: it left the map, distance then where it left, or reached `max`).
+    fn march(&self, x: f64, y: f64, a: f64, max: f64, mask: &[bool]) -> (f64, bool) {
         let (dx, dy) = (a.cos(), a.sin());
         let (gx, gy) = ((x - self.origin.0) / self.res, (y - self.origin.1) / self.res);
         let (mut c, mut r) = (gx.floor() as i64, gy.floor() as i64);
@@ -270,9 +319,11 @@ impl LaserModel {
         let ((dtx, mut tx), (dty, mut ty)) = (next(dx, gx, c), next(dy, gy, r));
         let (max_cells, mut t) = (max / self.res, 0.0);
         loop {
-            let inside = c >= 0 && r >= 0 && c < self.size.0 && r < self.size.1;
-            if !inside || self.stops[(r * self.size.0 + c) as usize] {
-                return (t * self.res).min(max);
+            if !(c >= 0 && r >= 0 && c < self.size.0 && r < self.size.1) {
+                return (t * self.res, false);
+            }
+            if mask[(r * self.size.0 + c) as usize] {
+                return (t * self.res, true);
             }
             if tx < ty {
                 t = tx;
@@ -284,7 +335,7 @@ impl LaserModel {
                 r += sr;
             }
             if t >= max_cells {
-                return max;
+                return (max, false);
             }
         }
     }
@@ -361,6 +412,39 @@ mod tests {
         let d = lm.ray_range(2.0, 2.0, std::f64::consts::FRAC_PI_4, 10.0);
         assert!((d - 1.95 * 2f64.sqrt()).abs() < 0.08, "{d}");
         assert_eq!(lm.ray_range(2.0, 2.0, 0.0, 1.0), 1.0);
+    }
+
+    #[test]
+    fn beams_without_a_return_tell_where_a_wall_ends() {
+        // A wall along x = 4 from y = 0 to y = 4 in a free 10 x 10 m map. From (3, 3.9) facing
+        // east the beams below ~6 degrees hit the wall; those above pass its end and return
+        // nothing. A particle 0.4 m south sees its returns on the same wall (the likelihood
+        // field cannot tell them apart), but it would have had returns where the scan has none.
+        let mut map = OccupancyGrid::new(200, 200, 0.05, Pose2::default(), GRID_FREE);
+        for r in 0..80 {
+            map.set(80, r, GRID_OCCUPIED);
+        }
+        let truth = Pose2::new(3.0, 3.9, 0.0);
+        let south = Pose2::new(3.0, 3.5, 0.0);
+        let n = 121;
+        let inc = std::f64::consts::FRAC_PI_3 * 2.0 / (n - 1) as f64;
+        let weigh = |likelihood: f64| {
+            let p = AmclParams { laser_no_return_likelihood: likelihood, laser_max_beams: 60, ..Default::default() };
+            let mut lm = LaserModel::new(&map, &p);
+            let ranges = (0..n).map(|i| lm.ray_range(truth.x, truth.y, -std::f64::consts::FRAC_PI_3 + i as f64 * inc, 3.5) as f32).map(|r| if r >= 3.5 { f32::NAN } else { r }).collect();
+            let scan = LaserScan { angle_min: -std::f64::consts::FRAC_PI_3, angle_max: std::f64::consts::FRAC_PI_3, angle_increment: inc, range_min: 0.1, range_max: 3.5, ranges };
+            assert!(scan.returns() > 30 && scan.returns() < n - 30, "{}", scan.returns());
+            let mut parts = vec![(truth, 1.0), (south, 1.0)];
+            lm.weigh(&p, &scan, Pose2::default(), &mut parts, false);
+            parts[0].1 / parts[1].1
+        };
+        let ros = weigh(1.0);
+        assert!((0.5..2.0).contains(&ros), "without the beams that return nothing, both fit: {ros}");
+        let with = weigh(0.1);
+        assert!(with > 1e6, "with them the truth wins: {with}");
+        // A clear ray is never blocked by a wall beyond range_max, nor by leaving the map.
+        let lm = LaserModel::new(&map, &AmclParams::default());
+        assert!(lm.ray_blocked(3.0, 2.0, 0.0, 1.5) && !lm.ray_blocked(3.0, 2.0, 0.0, 0.9) && !lm.ray_blocked(3.0, 2.0, std::f64::consts::PI, 50.0));
     }
 
     /// The weight of a particle at `pose` for a scan taken at `truth` with each model.

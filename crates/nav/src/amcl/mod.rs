@@ -83,6 +83,10 @@ pub struct AmclParams {
     pub laser_lambda_short: f64,
     /// Distance beyond which the likelihood field is flat (m, default 2.0).
     pub laser_likelihood_max_dist: f64,
+    /// `likelihood_field_prob`: the likelihood of a beam without a return whose ray crosses an
+    /// occupied cell of the map within range (xhab's own, default 0.1; 1 ignores such beams,
+    /// as ROS's likelihood field does).
+    pub laser_no_return_likelihood: f64,
     /// Skip beams most particles cannot explain, `likelihood_field_prob` (default false).
     pub do_beamskip: bool,
     /// A beam end within this distance of an obstacle agrees with the map (m, default 0.5).
@@ -119,6 +123,7 @@ impl Default for AmclParams {
             laser_sigma_hit: 0.2,
             laser_lambda_short: 0.1,
             laser_likelihood_max_dist: 2.0,
+            laser_no_return_likelihood: 0.1,
             do_beamskip: false,
             beam_skip_distance: 0.5,
             beam_skip_threshold: 0.3,

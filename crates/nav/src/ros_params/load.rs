@@ -596,6 +596,7 @@ impl<'a> Loader<'a> {
             ("laser_sigma_hit", &mut a.laser_sigma_hit),
             ("laser_lambda_short", &mut a.laser_lambda_short),
             ("laser_likelihood_max_dist", &mut a.laser_likelihood_max_dist),
+            ("laser_no_return_likelihood", &mut a.laser_no_return_likelihood),
             ("beam_skip_distance", &mut a.beam_skip_distance),
             ("beam_skip_threshold", &mut a.beam_skip_threshold),
             ("beam_skip_error_threshold", &mut a.beam_skip_error_threshold),

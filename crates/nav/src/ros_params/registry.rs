@@ -398,6 +398,8 @@ const AMCL: &[ParamSpec] = &[
     p("std_warn_level_y", F0, "0.2", I),
     p("std_warn_level_yaw", F0, "0.1", I),
     p("restore_defaults", B, "false", I),
+    // xhab's own.
+    p("laser_no_return_likelihood", P01, "0.1", X),
 ];
 
 /// Every parameter name of `node`.
