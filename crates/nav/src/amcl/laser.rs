@@ -5,16 +5,24 @@
 //!   ROS's ad-hoc `1 + sum(pz^3)`.
 //! - `likelihood_field_prob`: the same beam scores multiplied (a true likelihood), with ROS's
 //!   optional beam skipping: once the filter has converged, beams that most particles cannot
-//!   explain (an obstacle missing from the map) are left out.
+//!   explain (an obstacle missing from the map) are left out. Beams without a return count
+//!   too (xhab's own) where the returns leave a direction of the position open: one whose ray
+//!   would cross an occupied cell within range has likelihood `laser_no_return_likelihood`.
+//!   Beside a single straight wall the returns fit every pose along it; where the wall ends,
+//!   the beams that pass its end are what place the robot. Where the returns pin the position
+//!   by themselves (the smaller eigenvalue of `sum n n^T` over their surface normals is 1 or
+//!   more), they are left out: tracing a ray per particle and beam is costly.
 //! - `beam`: each beam's range is compared with the range ray-cast in the map from the
 //!   particle (hit, short, max and random parts), combined as `1 + sum(pz^3)`.
 //!
 //! Maps have origin yaw 0 ([`Amcl::new`](super::Amcl::new) turns a rotated one into the
-//! world's axes), so cells come from plain arithmetic. Beams without a return (NaN)
-//! are skipped by the likelihood-field models and read as `range_max` by the beam model;
+//! world's axes), so cells come from plain arithmetic. Beams without a return (NaN,
+//! +inf or at least `range_max`) are skipped by `likelihood_field`, weighed as clear rays by
+//! `likelihood_field_prob`, and read as `range_max` by the beam model;
 //! `likelihood_field` and `beam` take ROS's fixed stride over all beams, `likelihood_field_prob`
 //! its `laser_max_beams` evenly among the returns (xhab's departure: see `valid_beams`).
 
+use super::clear_rays::{weakest_constraint, ClearRays};
 use super::AmclParams;
 use crate::distance_field::{squared_edt, FAR};
 use serde::{Deserialize, Serialize};
@@ -57,12 +65,15 @@ pub(crate) struct LaserModel {
     log_pz: Option<(f64, Vec<f32>, f32)>,
     /// Per cell: whether a ray-cast beam stops there (occupied or unknown, as ROS's map_calc_range).
     stops: Vec<bool>,
-    /// Per cell: occupied (what a beam without a return says is not along it).
-    occupied: Vec<bool>,
+    /// The map's clearance, for beams without a return.
+    clear_rays: ClearRays,
     origin: (f64, f64),
     res: f64,
     size: (i64, i64),
 }
+
+/// Largest distance (m) between neighbouring returns that a surface normal is taken across.
+const NORMAL_GAP: f64 = 0.3;
 
 /// Indices of at most `max_beams` evenly spaced beams among the returns of `scan` within
 /// its limits (all of them when fewer): the beams `likelihood_field_prob` uses (ROS strides
@@ -117,13 +128,12 @@ impl LaserModel {
             })
             .collect();
         let stops = map.data.iter().map(|&v| v != GRID_FREE).collect();
-        let occupied = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
         LaserModel {
             field,
             far: (-(max * max) / s2).exp() as f32,
             log_pz: None,
             stops,
-            occupied,
+            clear_rays: ClearRays::new(map),
             origin: (map.origin.x, map.origin.y),
             res: map.resolution,
             size: (map.width as i64, map.height as i64),
@@ -171,7 +181,10 @@ impl LaserModel {
         match p.laser_model_type {
             LaserModelType::LikelihoodField => self.weigh_cubed(p, scan, laser, &beams, particles),
             LaserModelType::LikelihoodFieldProb => {
-                let clear: Vec<f64> = if p.laser_no_return_likelihood < 1.0 { clear_beams(scan, max_beams).into_iter().map(|i| scan.angle(i)).collect() } else { Vec::new() };
+                // Only where the returns leave a direction of the position open: elsewhere they
+                // place the robot by themselves, and tracing rays for every particle is costly.
+                let open = p.laser_no_return_likelihood < 1.0 && weakest_constraint(scan, NORMAL_GAP) < 1.0;
+                let clear: Vec<f64> = if open { clear_beams(scan, max_beams).into_iter().map(|i| scan.angle(i)).collect() } else { Vec::new() };
                 self.weigh_prob(p, scan, laser, &beams, &clear, particles, converged)
             }
             LaserModelType::Beam => self.weigh_beam(p, scan, laser, &beams, particles),
@@ -199,7 +212,8 @@ impl LaserModel {
     /// Likelihood field, product of the beams' `pz`, with beam skipping once converged.
     /// Beams without a return (`clear`, their bearings) count too: one whose ray crosses an
     /// occupied cell short of `range_max` (less `2 laser_sigma_hit` for the range noise) has
-    /// likelihood `laser_no_return_likelihood`, a clear one 1.
+    /// likelihood `laser_no_return_likelihood`, a clear one 1. [`Self::weigh`] passes them
+    /// only when the returns leave a direction open ([`weakest_constraint`] below 1).
     #[allow(clippy::too_many_arguments)]
     fn weigh_prob(&mut self, p: &AmclParams, scan: &LaserScan, laser: Pose2, beams: &[Beam], clear: &[f64], particles: &mut [(Pose2, f64)], converged: bool) -> f64 {
         let z_rand = p.laser_z_rand / scan.range_max.max(1e-6);
@@ -243,10 +257,9 @@ impl LaserModel {
         if !clear.is_empty() {
             let miss = p.laser_no_return_likelihood.max(1e-300).ln();
             let len = scan.range_max - 2.0 * p.laser_sigma_hit;
-            for (k, (pose, _)) in particles.iter().enumerate() {
-                let lp = pose.compose(laser);
-                let blocked = clear.iter().filter(|&&b| self.ray_blocked(lp.x, lp.y, lp.yaw + b, len)).count();
-                logp[k] += blocked as f64 * miss;
+            let lasers: Vec<Pose2> = particles.iter().map(|(pose, _)| pose.compose(laser)).collect();
+            for (l, blocked) in logp.iter_mut().zip(self.clear_rays.blocked_counts(&lasers, clear, len, true).0) {
+                *l += blocked as f64 * miss;
             }
         }
         // Scaled by the largest likelihood so that many beams cannot underflow every weight.
@@ -292,12 +305,6 @@ impl LaserModel {
     /// unknown or off the map), capped at `max` (m); exact grid traversal.
     fn ray_range(&self, x: f64, y: f64, a: f64, max: f64) -> f64 {
         self.march(x, y, a, max, &self.stops).0.min(max)
-    }
-
-    /// Whether the ray from (x, y) along heading `a` crosses an occupied cell within `len`
-    /// (m) before it leaves the map.
-    fn ray_blocked(&self, x: f64, y: f64, a: f64, len: f64) -> bool {
-        self.march(x, y, a, len, &self.occupied).1
     }
 
     /// Walks the cells the ray from (x, y) along heading `a` crosses (exact grid traversal)
@@ -444,7 +451,69 @@ mod tests {
         assert!(with > 1e6, "with them the truth wins: {with}");
         // A clear ray is never blocked by a wall beyond range_max, nor by leaving the map.
         let lm = LaserModel::new(&map, &AmclParams::default());
-        assert!(lm.ray_blocked(3.0, 2.0, 0.0, 1.5) && !lm.ray_blocked(3.0, 2.0, 0.0, 0.9) && !lm.ray_blocked(3.0, 2.0, std::f64::consts::PI, 50.0));
+        let cr = &lm.clear_rays;
+        assert!(cr.blocked(3.0, 2.0, 1.0, 0.0, 1.5) && !cr.blocked(3.0, 2.0, 1.0, 0.0, 0.9) && !cr.blocked(3.0, 2.0, -1.0, 0.0, 50.0));
+    }
+
+    #[test]
+    fn sphere_tracing_finds_what_the_grid_traversal_finds() {
+        // Random boxes and single cells in the room; rays from random points, headings and
+        // lengths: the tracer agrees with the cell-by-cell traversal over the occupied cells.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut map = room();
+        for _ in 0..12 {
+            let (c, r, w, h) = (rng.gen_range(1..70), rng.gen_range(1..70), rng.gen_range(1..8), rng.gen_range(1..8));
+            for i in c..c + w {
+                for j in r..r + h {
+                    map.set(i, j, GRID_OCCUPIED);
+                }
+            }
+        }
+        let lm = LaserModel::new(&map, &AmclParams::default());
+        let occupied: Vec<bool> = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
+        let (mut blocked, n) = (0, 20_000);
+        for _ in 0..n {
+            let (x, y, a, len) = (rng.gen_range(-0.5..4.5), rng.gen_range(-0.5..4.5), rng.gen_range(-4.0..4.0), rng.gen_range(0.0..5.0));
+            let want = lm.march(x, y, a, len, &occupied).1;
+            assert_eq!(lm.clear_rays.blocked(x, y, a.cos(), a.sin(), len), want, "from ({x}, {y}) heading {a} for {len} m");
+            blocked += want as usize;
+        }
+        assert!(blocked > n / 4 && blocked < n * 3 / 4, "{blocked}");
+        // Clouds of particles, tight to spread, in a 12 x 12 m hall with boxes: the bound that
+        // skips traces changes no count.
+        let mut hall = OccupancyGrid::new(240, 240, 0.05, Pose2::default(), GRID_FREE);
+        for i in 0..240 {
+            for (c, r) in [(i, 0), (i, 239), (0, i), (239, i)] {
+                hall.set(c, r, GRID_OCCUPIED);
+            }
+        }
+        for _ in 0..10 {
+            let (c, r, w, h) = (rng.gen_range(1..220), rng.gen_range(1..220), rng.gen_range(1..20), rng.gen_range(1..20));
+            for i in c..c + w {
+                for j in r..r + h {
+                    hall.set(i, j, GRID_OCCUPIED);
+                }
+            }
+        }
+        let lm = LaserModel::new(&hall, &AmclParams::default());
+        let mut any_blocked = false;
+        for spread in [0.02, 0.1, 0.3, 1.0] {
+            let (cx, cy, cyaw) = (rng.gen_range(4.0..8.0), rng.gen_range(4.0..8.0), rng.gen_range(-3.0..3.0));
+            let lasers: Vec<Pose2> = (0..400)
+                .map(|_| Pose2::new(cx + spread * rng.gen_range(-1.0..1.0), cy + spread * rng.gen_range(-1.0..1.0), cyaw + spread * rng.gen_range(-1.0..1.0)))
+                .collect();
+            let bearings: Vec<f64> = (0..30).map(|k| -3.1 + k as f64 * 0.21).collect();
+            let (exact, all) = lm.clear_rays.blocked_counts(&lasers, &bearings, 3.1, false);
+            let (fast, traced) = lm.clear_rays.blocked_counts(&lasers, &bearings, 3.1, true);
+            assert_eq!(fast, exact, "spread {spread}");
+            any_blocked |= exact.iter().any(|&k| k > 0);
+            assert_eq!(all, 400 * 30);
+            if spread <= 0.02 {
+                assert!(traced < all / 2, "a tight cloud skips most traces: {traced} of {all}");
+            }
+        }
+        assert!(any_blocked);
     }
 
     /// The weight of a particle at `pose` for a scan taken at `truth` with each model.

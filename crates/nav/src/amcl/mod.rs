@@ -17,8 +17,14 @@
 //! shuffled systematic sample keeps it unbiased; `likelihood_field_prob` takes its
 //! `laser_max_beams` beams evenly among the scan's returns (ROS strides over every beam and then
 //! drops those without a return, so a robot far from the walls uses few or none of the returns
-//! it has: on turtlebot3_world 10 of 30 beams returned, near open goals none).
+//! it has: on turtlebot3_world 10 of 30 beams returned, near open goals none);
+//! `likelihood_field_prob` also weighs up to `laser_max_beams` beams without a return where
+//! the returns leave a direction of the position open (one straight wall, a corridor): a ray
+//! that would cross an occupied cell within range has likelihood `laser_no_return_likelihood`
+//! (default 0.1; ROS's likelihood field skips them, so beside one straight wall it cannot
+//! place the robot along it).
 
+mod clear_rays;
 mod laser;
 mod motion;
 

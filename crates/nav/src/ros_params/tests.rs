@@ -122,6 +122,7 @@ fn each_implemented_name_takes_effect() {
         ("laser_sigma_hit: 0.1", |p| p.amcl.laser_sigma_hit, 0.1),
         ("laser_lambda_short: 0.2", |p| p.amcl.laser_lambda_short, 0.2),
         ("laser_likelihood_max_dist: 1.0", |p| p.amcl.laser_likelihood_max_dist, 1.0),
+        ("laser_no_return_likelihood: 1.0", |p| p.amcl.laser_no_return_likelihood, 1.0),
         ("do_beamskip: true", |p| f64::from(u8::from(p.amcl.do_beamskip)), 1.0),
         ("beam_skip_distance: 0.4", |p| p.amcl.beam_skip_distance, 0.4),
         ("beam_skip_threshold: 0.4", |p| p.amcl.beam_skip_threshold, 0.4),
