@@ -35,6 +35,9 @@ pub struct GoalField {
     next: Vec<u32>,
     /// Each cell's anchor once asked for: 0 unknown, 1 none, else anchor id + 2.
     cells: Vec<AtomicU32>,
+    /// The anchor found last (`NONE` before any): a bound for the next search, which an agent
+    /// walking on usually finds again. Only the search's speed depends on it.
+    hint: AtomicU32,
 }
 
 impl Clone for GoalField {
@@ -48,6 +51,7 @@ impl Clone for GoalField {
             dist: self.dist.clone(),
             next: self.next.clone(),
             cells: self.cells.iter().map(|c| AtomicU32::new(c.load(Ordering::Relaxed))).collect(),
+            hint: AtomicU32::new(self.hint.load(Ordering::Relaxed)),
         }
     }
 }
@@ -118,6 +122,7 @@ impl GoalField {
             dist,
             next,
             cells: (0..w * h).map(|_| AtomicU32::new(0)).collect(),
+            hint: AtomicU32::new(NONE),
         }
     }
 
@@ -148,6 +153,9 @@ impl GoalField {
         }
         let a = self.find_anchor(grid, i);
         self.cells[i].store(a.map_or(1, |q| q + 2), Ordering::Relaxed);
+        if let Some(q) = a {
+            self.hint.store(q, Ordering::Relaxed);
+        }
         a
     }
 
@@ -165,18 +173,31 @@ impl GoalField {
         let (w, h) = grid.size();
         let (col, row) = ((i % w) as isize, (i / w) as isize);
         let mut bound = f64::INFINITY;
-        let mut tried: [u32; 8] = [NONE; 8];
+        let mut tried: [u32; 9] = [NONE; 9];
         let mut t = 0;
         // Line-of-sight answers already worked out here, reused by the candidates below (the
         // neighbours' best anchor comes up again among them, last).
-        let mut known: [(u32, bool); 8] = [(NONE, false); 8];
+        let mut known: [(u32, bool); 9] = [(NONE, false); 9];
         let mut nk = 0;
-        for (dc, dr) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1)] {
-            let (x, y) = (col + dc, row + dr);
-            if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
-                continue;
-            }
-            let v = self.cells[(y * w as isize + x) as usize].load(Ordering::Relaxed);
+        // The anchor found last comes after them (any anchor seen bounds the search: the answer
+        // is the best seen, so the bound never drops it, and the same whatever the order).
+        let hint = self.hint.load(Ordering::Relaxed);
+        for (dc, dr) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0)] {
+            let v = if (dc, dr) == (0, 0) {
+                // The hint, unless it is of another island or reaches no goal.
+                let ok = hint != NONE && ((hint as usize) >= n || (self.graph.island(hint as usize) == island && self.dist[hint as usize].is_finite()));
+                let ok = ok && ((hint as usize) < n || self.goal_island[hint as usize - n] == island);
+                if !ok {
+                    continue;
+                }
+                hint + 2
+            } else {
+                let (x, y) = (col + dc, row + dr);
+                if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
+                    continue;
+                }
+                self.cells[(y * w as isize + x) as usize].load(Ordering::Relaxed)
+            };
             if v < 2 || tried[..t].contains(&(v - 2)) {
                 continue;
             }
@@ -287,40 +308,48 @@ impl GoalField {
         }
     }
 
-    /// The next point to head for on the shortest path from `p` (m): the best anchor that `p`
-    /// itself sees (among those of its cell and the eight around it), skipping anchors closer
-    /// than `min_dist` (m). `None` when unreachable or when no anchor is in sight.
+    /// The next point to head for on the shortest path from `p` (m): its cell's anchor when `p`
+    /// itself sees it, else the best anchor `p` sees among those of the eight cells around,
+    /// skipping anchors closer than `min_dist` (m). `None` when unreachable or when no anchor
+    /// is in sight.
     pub fn next_waypoint(&self, grid: &NavGrid, p: Point2, min_dist: f64) -> Option<Point2> {
         let (i, _) = self.cell_for(grid, p)?;
         let n = self.graph.len();
         let (w, h) = grid.size();
         let (c, r) = ((i % w) as isize, (i / w) as isize);
         let mut best: Option<(f64, Point2)> = None;
-        for dr in -1..=1 {
-            for dc in -1..=1 {
-                let (cc, rr) = (c + dc, r + dr);
-                if cc < 0 || rr < 0 || cc >= w as isize || rr >= h as isize {
-                    continue;
-                }
-                let Some(mut q) = self.cell_anchor(grid, (rr * w as isize + cc) as usize) else { continue };
-                // Walk up past anchors that are too close to be worth heading for.
-                for _ in 0..64 {
-                    let (a, d) = self.anchor(q);
-                    let far = dist2(a, [p.x, p.y]) >= min_dist;
-                    if far || q as usize >= n {
-                        let total = d + dist2(a, [p.x, p.y]);
-                        // Twice the wavefront's tolerance: the agent itself may stand that deep.
-                        if best.is_none_or(|b| total < b.0) && segment_clear(grid, [p.x, p.y], a, 2.0 * LOS_EPS) {
-                            best = Some((total, Point2::new(a[0], a[1])));
-                        }
-                        break;
+        // The cell's own anchor first: when `p` sees it, the way through it is at most twice
+        // the distance from `p` to the cell centre longer than the best (the triangle
+        // inequality), and the eight cells around (each a new anchor search, most of a step's
+        // cost) are not looked at.
+        let own = std::iter::once((0, 0));
+        let around = (-1..=1).flat_map(|dr| (-1..=1).map(move |dc| (dc, dr))).filter(|&d| d != (0, 0));
+        for (k, (dc, dr)) in own.chain(around).enumerate() {
+            if k == 1 && best.is_some() {
+                break;
+            }
+            let (cc, rr) = (c + dc, r + dr);
+            if cc < 0 || rr < 0 || cc >= w as isize || rr >= h as isize {
+                continue;
+            }
+            let Some(mut q) = self.cell_anchor(grid, (rr * w as isize + cc) as usize) else { continue };
+            // Walk up past anchors that are too close to be worth heading for.
+            for _ in 0..64 {
+                let (a, d) = self.anchor(q);
+                let far = dist2(a, [p.x, p.y]) >= min_dist;
+                if far || q as usize >= n {
+                    let total = d + dist2(a, [p.x, p.y]);
+                    // Twice the wavefront's tolerance: the agent itself may stand that deep.
+                    if best.is_none_or(|b| total < b.0) && segment_clear(grid, [p.x, p.y], a, 2.0 * LOS_EPS) {
+                        best = Some((total, Point2::new(a[0], a[1])));
                     }
-                    let next = self.next[q as usize];
-                    if next == NONE || next == q {
-                        break;
-                    }
-                    q = next;
+                    break;
                 }
+                let next = self.next[q as usize];
+                if next == NONE || next == q {
+                    break;
+                }
+                q = next;
             }
         }
         best.map(|b| b.1)
