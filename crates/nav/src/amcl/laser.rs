@@ -461,15 +461,19 @@ mod tests {
         // lengths: the tracer agrees with the cell-by-cell traversal over the occupied cells.
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        let mut map = room();
-        for _ in 0..12 {
-            let (c, r, w, h) = (rng.gen_range(1..70), rng.gen_range(1..70), rng.gen_range(1..8), rng.gen_range(1..8));
-            for i in c..c + w {
-                for j in r..r + h {
-                    map.set(i, j, GRID_OCCUPIED);
+        // `count` boxes of up to `size` cells a side, corners in 1..`reach`.
+        fn boxes(map: &mut OccupancyGrid, rng: &mut rand_chacha::ChaCha8Rng, count: usize, reach: usize, size: usize) {
+            for _ in 0..count {
+                let (c, r, w, h) = (rng.gen_range(1..reach), rng.gen_range(1..reach), rng.gen_range(1..size), rng.gen_range(1..size));
+                for i in c..c + w {
+                    for j in r..r + h {
+                        map.set(i, j, GRID_OCCUPIED);
+                    }
                 }
             }
         }
+        let mut map = room();
+        boxes(&mut map, &mut rng, 12, 70, 8);
         let lm = LaserModel::new(&map, &AmclParams::default());
         let occupied: Vec<bool> = map.data.iter().map(|&v| v == GRID_OCCUPIED).collect();
         let (mut blocked, n) = (0, 20_000);
@@ -488,14 +492,7 @@ mod tests {
                 hall.set(c, r, GRID_OCCUPIED);
             }
         }
-        for _ in 0..10 {
-            let (c, r, w, h) = (rng.gen_range(1..220), rng.gen_range(1..220), rng.gen_range(1..20), rng.gen_range(1..20));
-            for i in c..c + w {
-                for j in r..r + h {
-                    hall.set(i, j, GRID_OCCUPIED);
-                }
-            }
-        }
+        boxes(&mut hall, &mut rng, 10, 220, 20);
         let lm = LaserModel::new(&hall, &AmclParams::default());
         let mut any_blocked = false;
         for spread in [0.02, 0.1, 0.3, 1.0] {
