@@ -149,69 +149,6 @@ impl GeodesicField {
             None => f64::INFINITY,
         }
     }
-
-    /// The next point to head for on the shortest path from `p` (m): the best anchor that `p`
-    /// itself sees (among those of its cell and the eight around it), skipping anchors closer
-    /// than `min_dist` (m). `None` when unreachable or when no anchor is in sight.
-    pub fn next_waypoint(&self, grid: &NavGrid, p: Point2, min_dist: f64) -> Option<Point2> {
-        let i = self.cell_for(grid, p)?;
-        let n = self.dist.len();
-        let (w, h) = grid.size();
-        let (c, r) = ((i % w) as isize, (i / w) as isize);
-        let mut best: Option<(f64, Point2)> = None;
-        for dr in -1..=1 {
-            for dc in -1..=1 {
-                let (cc, rr) = (c + dc, r + dr);
-                if cc < 0 || rr < 0 || cc >= w as isize || rr >= h as isize {
-                    continue;
-                }
-                let mut q = self.parent[(rr * w as isize + cc) as usize];
-                // Walk up past anchors that are too close to be worth heading for.
-                for _ in 0..64 {
-                    if q == NONE {
-                        break;
-                    }
-                    let (a, d) = self.anchor_of(grid, q);
-                    let far = dist2(a, [p.x, p.y]) >= min_dist;
-                    if far || q as usize >= n {
-                        let total = d + dist2(a, [p.x, p.y]);
-                        // Twice the wavefront's tolerance: the agent itself may stand that deep.
-                        if best.is_none_or(|b| total < b.0) && segment_clear(grid, [p.x, p.y], a, 2.0 * LOS_EPS) {
-                            best = Some((total, Point2::new(a[0], a[1])));
-                        }
-                        break;
-                    }
-                    let next = self.parent[q as usize];
-                    if next == q {
-                        break;
-                    }
-                    q = next;
-                }
-            }
-        }
-        best.map(|b| b.1)
-    }
-
-    /// The shortest path from `p` to its goal as a polyline (m), `p` first.
-    pub fn path(&self, grid: &NavGrid, p: Point2) -> Vec<Point2> {
-        let mut out = vec![p];
-        let Some(i) = self.cell_for(grid, p) else { return out };
-        let n = self.dist.len();
-        let mut q = self.parent[i];
-        for _ in 0..n {
-            let (a, _) = self.anchor_of(grid, q);
-            out.push(Point2::new(a[0], a[1]));
-            if q as usize >= n {
-                break;
-            }
-            let next = self.parent[q as usize];
-            if next == q || next == NONE {
-                break;
-            }
-            q = next;
-        }
-        out
-    }
 }
 
 /// Geodesic distance between two points of one floor (m); infinite across islands. Answered
