@@ -168,40 +168,30 @@ impl GoalField {
         let island = grid.island_of[i];
         let c = grid.center(i);
         let n = self.graph.len();
-        // A bound from the neighbours' anchors that this centre sees too: most cells share
-        // their neighbours' anchor, and nothing worse than it needs looking at.
+        // A bound from the neighbours' anchors that this centre sees too (most cells share
+        // their neighbours' anchor, and nothing worse than it needs looking at), and from the
+        // anchor found last. Any anchor seen bounds the search without dropping its answer,
+        // the best seen, so the answer is the same whatever was asked before.
         let (w, h) = grid.size();
         let (col, row) = ((i % w) as isize, (i / w) as isize);
+        let neighbours = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1)].into_iter().filter_map(|(dc, dr)| {
+            let (x, y) = (col + dc, row + dr);
+            let inside = x >= 0 && y >= 0 && x < w as isize && y < h as isize;
+            let v = if inside { self.cells[(y * w as isize + x) as usize].load(Ordering::Relaxed) } else { 0 };
+            (v >= 2).then(|| v - 2)
+        });
+        let hint = Some(self.hint.load(Ordering::Relaxed)).filter(|&q| self.reaches_goal_from(q, island));
         let mut bound = f64::INFINITY;
         let mut tried: [u32; 9] = [NONE; 9];
         let mut t = 0;
         // Line-of-sight answers already worked out here, reused by the candidates below (the
-        // neighbours' best anchor comes up again among them, last).
+        // bound's anchor comes up again among them, last).
         let mut known: [(u32, bool); 9] = [(NONE, false); 9];
         let mut nk = 0;
-        // The anchor found last comes after them (any anchor seen bounds the search: the answer
-        // is the best seen, so the bound never drops it, and the same whatever the order).
-        let hint = self.hint.load(Ordering::Relaxed);
-        for (dc, dr) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0)] {
-            let v = if (dc, dr) == (0, 0) {
-                // The hint, unless it is of another island or reaches no goal.
-                let ok = hint != NONE && ((hint as usize) >= n || (self.graph.island(hint as usize) == island && self.dist[hint as usize].is_finite()));
-                let ok = ok && ((hint as usize) < n || self.goal_island[hint as usize - n] == island);
-                if !ok {
-                    continue;
-                }
-                hint + 2
-            } else {
-                let (x, y) = (col + dc, row + dr);
-                if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
-                    continue;
-                }
-                self.cells[(y * w as isize + x) as usize].load(Ordering::Relaxed)
-            };
-            if v < 2 || tried[..t].contains(&(v - 2)) {
+        for q in neighbours.chain(hint) {
+            if tried[..t].contains(&q) {
                 continue;
             }
-            let q = v - 2;
             tried[t] = q;
             t += 1;
             let (p, d) = self.anchor(q);
@@ -253,6 +243,16 @@ impl GoalField {
             }
         }
         None
+    }
+
+    /// Whether anchor `q` (`NONE` for none) lies on `island` and reaches a goal.
+    fn reaches_goal_from(&self, q: u32, island: u32) -> bool {
+        let n = self.graph.len();
+        match q as usize {
+            _ if q == NONE => false,
+            k if k < n => self.graph.island(k) == island && self.dist[k].is_finite(),
+            k => self.goal_island[k - n] == island,
+        }
     }
 
     /// Whether anchor `q` can be the first anchor of a shortest path from `p` (m).
