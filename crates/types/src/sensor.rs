@@ -69,8 +69,34 @@ impl LaserScan {
         r.is_finite() && r >= self.range_min && r < self.range_max
     }
 
+    /// Whether beam `i` saw nothing within range_max: NaN (xhab's sensors, no hit), +inf
+    /// (REP 117) or at least range_max. A reading below range_min is neither this nor a return:
+    /// it says nothing.
+    pub fn is_clear(&self, i: usize) -> bool {
+        let r = self.ranges[i] as f64;
+        r.is_nan() || r >= self.range_max
+    }
+
     /// How many beams are returns ([`Self::is_return`]).
     pub fn returns(&self) -> usize {
         (0..self.ranges.len()).filter(|&i| self.is_return(i)).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_beam_is_a_return_clear_or_says_nothing() {
+        let ranges = vec![1.0, f32::NAN, f32::INFINITY, 3.5, 9.0, 0.05, 0.0, f32::NEG_INFINITY];
+        let scan = LaserScan { angle_min: 0.0, angle_max: 0.7, angle_increment: 0.1, range_min: 0.1, range_max: 3.5, ranges };
+        let kind = |i| match (scan.is_return(i), scan.is_clear(i)) {
+            (true, false) => 'r',
+            (false, true) => 'c',
+            (false, false) => '-',
+            (true, true) => panic!("beam {i} both"),
+        };
+        assert_eq!((0..8).map(kind).collect::<String>(), "rcccc---");
     }
 }

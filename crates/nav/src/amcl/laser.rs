@@ -83,16 +83,10 @@ fn valid_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
     evenly((0..scan.ranges.len()).filter(|&i| scan.is_return(i)).collect(), max_beams)
 }
 
-/// Whether beam `i` of `scan` saw nothing within `range_max`: NaN (xhab's sensors, no hit),
-/// +inf (REP 117) or at least `range_max`. A reading below `range_min` says nothing.
-fn is_clear(scan: &LaserScan, i: usize) -> bool {
-    let r = scan.ranges[i] as f64;
-    r.is_nan() || r >= scan.range_max
-}
-
-/// Indices of at most `max_beams` evenly spaced beams without a return ([`is_clear`]).
+/// Indices of at most `max_beams` evenly spaced beams without a return
+/// ([`LaserScan::is_clear`]).
 fn clear_beams(scan: &LaserScan, max_beams: usize) -> Vec<usize> {
-    evenly((0..scan.ranges.len()).filter(|&i| is_clear(scan, i)).collect(), max_beams)
+    evenly((0..scan.ranges.len()).filter(|&i| scan.is_clear(i)).collect(), max_beams)
 }
 
 /// At most `max` (at least 1) evenly spaced items of `valid`.
@@ -230,8 +224,9 @@ impl LaserModel {
         let mut log_all = if skip { vec![0f64; particles.len() * nb] } else { Vec::new() };
         let mut agree = vec![0usize; nb];
         let mut logp = vec![0f64; particles.len()];
-        for (k, (pose, _)) in particles.iter().enumerate() {
-            let lp = pose.compose(laser);
+        // Each particle's laser pose, for the returns and then for the beams without one.
+        let lasers: Vec<Pose2> = particles.iter().map(|(pose, _)| pose.compose(laser)).collect();
+        for (k, lp) in lasers.iter().enumerate() {
             let (s, c) = lp.yaw.sin_cos();
             for (j, b) in beams.iter().enumerate() {
                 let cell = self.cell(lp.x + c * b.x - s * b.y, lp.y + s * b.x + c * b.y);
@@ -257,7 +252,6 @@ impl LaserModel {
         if !clear.is_empty() {
             let miss = p.laser_no_return_likelihood.max(1e-300).ln();
             let len = scan.range_max - 2.0 * p.laser_sigma_hit;
-            let lasers: Vec<Pose2> = particles.iter().map(|(pose, _)| pose.compose(laser)).collect();
             for (l, blocked) in logp.iter_mut().zip(self.clear_rays.blocked_counts(&lasers, clear, len, true).0) {
                 *l += blocked as f64 * miss;
             }
