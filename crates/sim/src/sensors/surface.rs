@@ -90,13 +90,45 @@ impl Surfaces {
     /// the surface is `footprint` metres ([`super::mipmap::footprint`]).
     #[inline]
     pub fn color(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> [u8; 3] {
-        let Some(m) = self.materials.get(t.material as usize) else { return [160; 3] };
-        let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return m.flat };
+        self.resolve(&self.lookup(t, bary, footprint))
+    }
+
+    /// The first half of [`Surfaces::color`]: the flat colour, or where to sample which
+    /// texture. A renderer may work this out for a run of pixels and [`Surfaces::resolve`]
+    /// them after, so that each loop is short (same bytes as `color`).
+    #[inline]
+    pub fn lookup(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> Lookup {
+        let Some(m) = self.materials.get(t.material as usize) else { return Lookup::Flat([160; 3]) };
+        let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return Lookup::Flat(m.flat) };
         let bary = bary();
         let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
-        let s = tex.sample(uv, level_of_detail(footprint, t.texel_scale, tex.levels.len()));
-        std::array::from_fn(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
+        Lookup::Texture { material: t.material, uv, lod: level_of_detail(footprint, t.texel_scale, tex.levels.len()) }
     }
+
+    /// The second half of [`Surfaces::color`]: the colour a [`Surfaces::lookup`] stands for.
+    #[inline]
+    pub fn resolve(&self, l: &Lookup) -> [u8; 3] {
+        match *l {
+            Lookup::Flat(c) => c,
+            Lookup::Texture { material, uv, lod } => {
+                let m = &self.materials[material as usize];
+                let tex = &self.textures[m.texture.unwrap_or_default() as usize];
+                let s = tex.sample(uv, lod);
+                std::array::from_fn(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
+            }
+        }
+    }
+}
+
+/// What the colour of a surface point needs once its triangle is known
+/// ([`Surfaces::lookup`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Lookup {
+    /// An untextured material's colour (sRGB bytes).
+    Flat([u8; 3]),
+    /// A textured material (index in [`Surfaces::materials`], which has a texture), sampled
+    /// at texture coordinates `uv` and level of detail `lod`.
+    Texture { material: u32, uv: [f32; 2], lod: f32 },
 }
 
 /// The sRGB tables the renderers share (the GPU reads the same 512 numbers): entries

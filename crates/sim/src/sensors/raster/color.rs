@@ -75,8 +75,11 @@ impl RasterScene {
         let origin = [base.x, base.y, floor_z + cam.mount_height];
         let pixel_angle = (1.0 / k.fx) as f32;
         let mut data = vec![0u8; cam.width * cam.height * 3];
-        data.par_chunks_mut(cam.width * 3).enumerate().for_each(|(v, row)| {
+        // Two loops per row, each short enough for the pixels to overlap in the processor:
+        // the geometry of each pixel (where its ray meets its triangle), then the colours.
+        data.par_chunks_mut(cam.width * 3).enumerate().for_each_init(Vec::new, |looks, (v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
+            looks.clear();
             // The plane of the triangle the last pixel saw, reused along its run of pixels.
             let mut tri: Option<(u32, TrianglePlane)> = None;
             for u in 0..cam.width {
@@ -94,8 +97,10 @@ impl RasterScene {
                 let len = dot(dir, dir).sqrt();
                 let cos = (denom / (t.ln * len)).abs();
                 let fp = footprint((t.distance(denom) * len) as f32, pixel_angle, cos as f32);
-                let color = self.surfaces.color(&self.surf[id as usize], || t.barycentric(dir, denom), fp);
-                row[u * 3..u * 3 + 3].copy_from_slice(&shade(color, cos));
+                looks.push((u, self.surfaces.lookup(&self.surf[id as usize], || t.barycentric(dir, denom), fp), cos));
+            }
+            for (u, look, cos) in looks.iter() {
+                row[u * 3..u * 3 + 3].copy_from_slice(&shade(self.surfaces.resolve(look), *cos));
             }
         });
         (depth, data)
