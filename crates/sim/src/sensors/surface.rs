@@ -159,8 +159,8 @@ fn encode_start() -> &'static [u8; ENCODE_BINS] {
 
 /// A linear value as an sRGB byte (the encoding rounded to the nearest byte; below 0 or NaN
 /// reads 0, above 1 reads 255): the byte where the 255 linear values at which rounding steps
-/// (the table shared with the GPU) put it, found from a table of starting bytes (at most a
-/// few steps from there; the same answer as a binary search of the steps).
+/// (the table shared with the GPU) put it, found from a table of starting bytes (at most one
+/// step from there, without a branch; the same answer as a binary search of the steps).
 #[inline]
 pub fn linear_to_srgb_byte(x: f32) -> u8 {
     if !(x > 0.0) {
@@ -169,13 +169,11 @@ pub fn linear_to_srgb_byte(x: f32) -> u8 {
     if x >= 1.0 {
         return 255;
     }
-    let steps = &srgb_table()[256..511];
-    // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound.
-    let mut c = encode_start()[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
-    while c < 255 && steps[c] <= x {
-        c += 1;
-    }
-    c as u8
+    // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound. No bin
+    // holds two steps (a test checks), so one comparison finishes; entry 511 (2) stands
+    // after the last step.
+    let c = encode_start()[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
+    (c + (srgb_table()[256 + c] <= x) as usize) as u8
 }
 
 /// [`linear_to_srgb_byte`] by a binary search of the 255 linear values where rounding steps.
@@ -328,6 +326,12 @@ mod tests {
         xs.extend((0..100_000).map(|i| i as f32 / 100_000.0));
         for x in xs {
             assert_eq!(linear_to_srgb_byte(x), encode_by_search(x), "{x}");
+        }
+        // One comparison after the start table's byte is enough: no bin holds two steps.
+        let steps = &srgb_table()[256..511];
+        for b in 0..ENCODE_BINS {
+            let (lo, hi) = (b as f32 / ENCODE_BINS as f32, (b + 1) as f32 / ENCODE_BINS as f32);
+            assert!(steps.iter().filter(|&&s| s > lo && s < hi).count() <= 1, "bin {b}");
         }
         // The search agrees with the formula away from the rounding steps.
         for i in 0..=1000 {
