@@ -9,11 +9,10 @@
 //! more clearance than that all along, the particle's ray is clear. That bound is exact (it only
 //! skips traces whose answer it knows), so the counts are the same as tracing every ray.
 
-use crate::distance_field::squared_edt;
-use xhab_types::{normalize_angle, LaserScan, OccupancyGrid, Pose2, GRID_OCCUPIED};
+use xhab_types::{normalize_angle, LaserScan, OccupancyGrid, Pose2};
 
 /// Largest clearance the tracer reads (cells).
-const CLEARANCE_CAP: u32 = 32;
+pub(crate) const CLEARANCE_CAP: u32 = 32;
 
 /// Heading differences (rad) from the cloud's mean for which the clear-ray bound is worked
 /// out per beam; a particle turned further is traced.
@@ -31,10 +30,12 @@ pub(crate) struct ClearRays {
 }
 
 impl ClearRays {
-    /// The clearance of `map` (yaw-0 origin, as the laser models read it).
-    pub(crate) fn new(map: &OccupancyGrid) -> Self {
-        let mut d2 = Vec::new();
-        squared_edt(map.width, map.height, |c, r| map.data[r * map.width + c] == GRID_OCCUPIED, CLEARANCE_CAP * CLEARANCE_CAP, &mut d2);
+    /// The clearance of `map` (yaw-0 origin, as the laser models read it) from the squared
+    /// distances `d2` (cells^2) of its cells to the nearest occupied cell, exact up to at least
+    /// `CLEARANCE_CAP^2` (the likelihood field's [`squared_edt`], worked out once for both).
+    ///
+    /// [`squared_edt`]: crate::distance_field::squared_edt
+    pub(crate) fn new(map: &OccupancyGrid, d2: &[u32]) -> Self {
         let clearance = d2.iter().map(|&k| (k.min(CLEARANCE_CAP * CLEARANCE_CAP) as f32).sqrt()).collect();
         ClearRays { clearance, origin: (map.origin.x, map.origin.y), res: map.resolution, size: (map.width as i64, map.height as i64) }
     }

@@ -22,7 +22,7 @@
 //! `likelihood_field` and `beam` take ROS's fixed stride over all beams, `likelihood_field_prob`
 //! its `laser_max_beams` evenly among the returns (xhab's departure: see `valid_beams`).
 
-use super::clear_rays::{weakest_constraint, ClearRays};
+use super::clear_rays::{weakest_constraint, ClearRays, CLEARANCE_CAP};
 use super::AmclParams;
 use crate::distance_field::{squared_edt, FAR};
 use serde::{Deserialize, Serialize};
@@ -111,8 +111,10 @@ impl LaserModel {
         let reach = (reach.is_finite() && reach <= 1024.0).then(|| reach.max(1.0).ceil() as u32);
         let table: Vec<f32> = reach.map_or(Vec::new(), |r| (0..=r * r).map(|d2| value((d2 as f64).sqrt())).collect());
         let at_cap = value(f64::INFINITY);
+        // One distance transform for the field and for the clear rays' clearance.
         let mut d2 = Vec::new();
-        squared_edt(map.width, map.height, |c, r| map.data[r * map.width + c] == GRID_OCCUPIED, reach.map_or(FAR - 1, |r| r * r), &mut d2);
+        let cap = reach.map_or(FAR - 1, |r| (r * r).max(CLEARANCE_CAP * CLEARANCE_CAP));
+        squared_edt(map.width, map.height, |c, r| map.data[r * map.width + c] == GRID_OCCUPIED, cap, &mut d2);
         let field = d2
             .iter()
             .map(|&k| match reach {
@@ -127,7 +129,7 @@ impl LaserModel {
             far: (-(max * max) / s2).exp() as f32,
             log_pz: None,
             stops,
-            clear_rays: ClearRays::new(map),
+            clear_rays: ClearRays::new(map, &d2),
             origin: (map.origin.x, map.origin.y),
             res: map.resolution,
             size: (map.width as i64, map.height as i64),
