@@ -63,11 +63,13 @@ pub(crate) fn dedup_segments(segs: &mut Vec<Seg>) {
         if a <= b { (a, b) } else { (b, a) }
     };
     type Key = ([i64; 2], [i64; 2]);
-    let mut keyed: Vec<(Key, Seg)> = segs.iter().map(|s| (key(s), *s)).collect();
-    keyed.sort_by_key(|x| x.0);
+    // Sorted by key and then by position, so that the first of equal keys is the segment that
+    // came first (what a stable sort keeps), in parallel.
+    use rayon::prelude::*;
+    let mut keyed: Vec<(Key, u32)> = segs.par_iter().enumerate().map(|(i, s)| (key(s), i as u32)).collect();
+    keyed.par_sort_unstable();
     keyed.dedup_by(|x, y| x.0 == y.0);
-    // Drop segments that collapse to a point only when a longer segment shares that point.
-    *segs = keyed.into_iter().map(|(_, s)| s).collect();
+    *segs = keyed.into_iter().map(|(_, i)| segs[i as usize]).collect();
 }
 
 /// Distance between two segments (m): 0 when they cross.
@@ -102,9 +104,10 @@ pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
 const SEGMENT_BAND_ROWS: usize = 16;
 
 /// Exact distance (m, capped at `cap`) from each cell centre to the segments, and the index of
-/// the nearest segment of each cell within the cap (`u32::MAX` beyond it).
-pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap: f64) -> (Vec<f32>, Vec<u32>) {
-    segment_distance_where(spec, segs, cap, |_, _| true)
+/// the nearest segment of each cell within the cap (`u32::MAX` beyond it); cells where `skip`
+/// is true (when it is not empty) are left at the cap, without a segment.
+pub(crate) fn segment_distance(spec: &super::raster::GridSpec, segs: &[Seg], cap: f64, skip: &[bool]) -> (Vec<f32>, Vec<u32>) {
+    segment_distance_where(spec, segs, cap, skip, |_, _| true)
 }
 
 /// [`segment_distance`] counting for cell `i` only the segments `k` that `counts(k, i)` accepts
@@ -113,6 +116,7 @@ pub(crate) fn segment_distance_where(
     spec: &super::raster::GridSpec,
     segs: &[Seg],
     cap: f64,
+    skip: &[bool],
     counts: impl Fn(usize, usize) -> bool + Sync,
 ) -> (Vec<f32>, Vec<u32>) {
     use rayon::prelude::*;
@@ -145,10 +149,13 @@ pub(crate) fn segment_distance_where(
             for r in r0.max(b0)..=r1.min(b1 - 1) {
                 let py = spec.y0 + (r as f64 + 0.5) * spec.res;
                 for c in c0..=c1 {
+                    let i = r * spec.w + c;
+                    if !skip.is_empty() && skip[i] {
+                        continue;
+                    }
                     let px = spec.x0 + (c as f64 + 0.5) * spec.res;
                     let q = closest_on_segment([px, py], s);
                     let d2 = (q[0] - px).powi(2) + (q[1] - py).powi(2);
-                    let i = r * spec.w + c;
                     if d2 < best[i - b0 * spec.w] && counts(k, i) {
                         best[i - b0 * spec.w] = d2;
                         near[i - b0 * spec.w] = k as u32;
@@ -207,7 +214,7 @@ mod tests {
     fn segment_distance_is_exact() {
         let spec = super::super::raster::GridSpec { x0: 0.0, y0: 0.0, res: 0.1, w: 20, h: 20 };
         let segs = vec![[[1.0, 0.0], [1.0, 2.0]]];
-        let (d, near) = segment_distance(&spec, &segs, 0.5);
+        let (d, near) = segment_distance(&spec, &segs, 0.5, &[]);
         // Cell (7, 3) centre at x = 0.75: 0.25 m from the segment.
         assert!((d[3 * 20 + 7] - 0.25).abs() < 1e-6);
         assert_eq!(near[3 * 20 + 7], 0);

@@ -118,6 +118,13 @@ pub struct NavGrid {
     /// Index of the segment nearest to each cell centre, when a segment is the nearest
     /// obstacle and within reach (`u32::MAX` otherwise).
     pub(crate) nearest: Vec<u32>,
+    /// Per cell, the line-of-sight tolerance (m) below which every segment through the cell
+    /// fails [`segment_clear`](crate::geodesic::segment_clear) there (see
+    /// [`block_margins`](crate::geodesic::block_margins)).
+    pub(crate) block_margin: Vec<f32>,
+    /// Per cell, one bit: whether its [`block_margin`](Self::block_margin) exceeds
+    /// [`LOS_EPS`](crate::geodesic::LOS_EPS).
+    pub(crate) los_blocked: Vec<u64>,
     /// The geodesic fields built lately on this grid.
     pub(crate) fields: crate::field_cache::FieldCache,
     /// The bend points of shortest paths and the legs between them, built on first use.
@@ -126,6 +133,9 @@ pub struct NavGrid {
 
 /// Rows of the grid one thread rasterises at a time in [`NavGrid::build_storey`].
 const RASTER_BAND_ROWS: usize = 16;
+
+/// Triangles one thread sorts at a time in [`NavGrid::build_storey`].
+const GATHER_CHUNK: usize = 4096;
 
 impl NavGrid {
     /// The geodesic field of `goals` on this grid, shared with whoever asked for the same
@@ -181,33 +191,57 @@ impl NavGrid {
         // The triangles that matter (walkable, in the body band, or above it), in scene order,
         // each with its flags and rows; then bands of rows are filled in parallel, every band
         // taking its triangles in scene order (the same cells as one pass, any thread count).
+        // Chunks of the meshes' triangles in parallel, joined in scene order.
+        let chunks: Vec<(usize, std::ops::Range<usize>)> = scene
+            .meshes
+            .iter()
+            .enumerate()
+            .flat_map(|(m, mesh)| {
+                let n = mesh.indices.len();
+                (0..n.div_ceil(GATHER_CHUNK)).map(move |k| (m, k * GATHER_CHUNK..((k + 1) * GATHER_CHUNK).min(n)))
+            })
+            .collect();
+        type Kept = ([[f64; 3]; 3], bool, bool, usize, usize);
+        let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>)> = chunks
+            .par_iter()
+            .map(|(m, range)| {
+                let (mut kept, mut segs) = (Vec::new(), Vec::new());
+                for ti in range.clone() {
+                    let t = scene.meshes[*m].triangle(ti).map(|p| p.map(|v| v as f64));
+                    let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
+                    let zhi = t[0][2].max(t[1][2]).max(t[2][2]);
+                    let Some(nz) = raster::abs_normal_z(&t) else { continue };
+                    let walkable = nz >= cos_slope && zhi >= ground_lo && zlo <= ground_hi;
+                    let in_band = zhi > band_lo && zlo < band_hi;
+                    let above = zhi >= band_hi;
+                    if !walkable && !in_band && !above {
+                        continue;
+                    }
+                    if in_band {
+                        clearance::band_segments(&t, band_lo, band_hi, &mut segs);
+                    }
+                    let (ymin, ymax) = (t[0][1].min(t[1][1]).min(t[2][1]), t[0][1].max(t[1][1]).max(t[2][1]));
+                    let r0 = ((ymin - y0) / res).floor();
+                    let r1 = ((ymax - y0) / res).floor();
+                    if r1 < 0.0 || r0 >= h as f64 {
+                        continue;
+                    }
+                    let (r0, r1) = (r0.max(0.0) as usize, (r1 as usize).min(h - 1));
+                    kept.push((t, walkable, raster::normal_z_sign(&t) > 0.0, r0, r1));
+                }
+                (kept, segs)
+            })
+            .collect();
         let mut tris: Vec<([[f64; 3]; 3], bool, bool)> = Vec::new();
         let mut in_bands: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(RASTER_BAND_ROWS)];
-        for t in scene.triangles() {
-            let t = t.map(|p| p.map(|v| v as f64));
-            let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
-            let zhi = t[0][2].max(t[1][2]).max(t[2][2]);
-            let Some(nz) = raster::abs_normal_z(&t) else { continue };
-            let walkable = nz >= cos_slope && zhi >= ground_lo && zlo <= ground_hi;
-            let in_band = zhi > band_lo && zlo < band_hi;
-            let above = zhi >= band_hi;
-            if !walkable && !in_band && !above {
-                continue;
-            }
-            if in_band {
-                clearance::band_segments(&t, band_lo, band_hi, &mut segs);
-            }
-            let (ymin, ymax) = (t[0][1].min(t[1][1]).min(t[2][1]), t[0][1].max(t[1][1]).max(t[2][1]));
-            let r0 = ((ymin - y0) / res).floor();
-            let r1 = ((ymax - y0) / res).floor();
-            if r1 < 0.0 || r0 >= h as f64 {
-                continue;
-            }
-            let (r0, r1) = (r0.max(0.0) as usize, (r1 as usize).min(h - 1));
-            let k = tris.len() as u32;
-            tris.push((t, walkable, raster::normal_z_sign(&t) > 0.0));
-            for b in r0 / RASTER_BAND_ROWS..=r1 / RASTER_BAND_ROWS {
-                in_bands[b].push(k);
+        for (kept, chunk_segs) in gathered {
+            segs.extend(chunk_segs);
+            for (t, walkable, faces_up, r0, r1) in kept {
+                let k = tris.len() as u32;
+                tris.push((t, walkable, faces_up));
+                for b in r0 / RASTER_BAND_ROWS..=r1 / RASTER_BAND_ROWS {
+                    in_bands[b].push(k);
+                }
             }
         }
         let band = RASTER_BAND_ROWS * w;
@@ -248,7 +282,17 @@ impl NavGrid {
         } else {
             fill_enclosed(&mut occupied, &ground, &roof, &spec);
             clearance::dedup_segments(&mut segs);
-            let (c, near) = clearance::segment_distance(&spec, &segs, cap);
+            // Cells off the region whose eight neighbours are off it too read no distance
+            // and no nearest segment (their clearance is 0, and no test looks further).
+            let off = |i: usize| occupied[i] || ground[i].is_nan();
+            let deep: Vec<bool> = (0..n)
+                .into_par_iter()
+                .map(|i| {
+                    let (c, r) = (i % w, i / w);
+                    (r.saturating_sub(1)..=(r + 1).min(h - 1)).all(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).all(|x| off(y * w + x)))
+                })
+                .collect();
+            let (c, near) = clearance::segment_distance(&spec, &segs, cap, &deep);
             // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
             (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), Vec::new())
         };
@@ -279,9 +323,13 @@ impl NavGrid {
             segments: segs,
             stair: stairs.map(|s| s.stair).unwrap_or_default(),
             nearest,
+            block_margin: Vec::new(),
+            los_blocked: Vec::new(),
             fields: Default::default(),
             corner_graph: Default::default(),
         };
+        grid.block_margin = crate::geodesic::block_margins(&grid);
+        grid.los_blocked = crate::geodesic::los_bits(&grid.block_margin);
         grid.label_islands();
         grid.find_corners();
         Ok(grid)

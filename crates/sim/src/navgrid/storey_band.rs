@@ -75,7 +75,7 @@ pub(super) fn clearance(
     banded.dedup();
     let segments: Vec<Seg> = banded.iter().map(|s| s.0).collect();
     let heights: Vec<[f32; 2]> = banded.iter().map(|s| s.1).collect();
-    let (clear, nearest) = clearance::segment_distance_where(spec, &segments, cap, |k, i| {
+    let (clear, nearest) = clearance::segment_distance_where(spec, &segments, cap, &[], |k, i| {
         let (blo, bhi) = band(i);
         heights[k][1] as f64 > blo && (heights[k][0] as f64) < bhi
     });
