@@ -321,23 +321,30 @@ const ARC_STEP_DEG: f64 = 30.0;
 /// tests). Elsewhere the boundary cells' anchors cover the arcs.
 fn arc_nodes(grid: &NavGrid, passage: &[bool]) -> Vec<([f64; 2], [f64; 2], u32)> {
     const Q: f64 = 1e5;
-    let mut verts: Vec<[i64; 2]> = grid
-        .segments
-        .iter()
-        .flat_map(|s| s.iter().map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64]))
-        .collect();
-    verts.sort_unstable();
-    verts.dedup();
     let r = grid.params.radius;
     let step = ARC_STEP_DEG.to_radians();
     let big = r / (step / 2.0).cos() + 1e-6;
     let (w, h) = grid.size();
+    // Only vertices near a passage can have an arc point kept: one whose cell is within a
+    // cell of a passage cell, so within that and the arc's radius (in cells, rounded up, and
+    // one more) of the vertex's own cell.
+    let near = dilate(passage, w, h, (big / grid.resolution()).ceil() as usize + 2);
+    let near_vertex = |v: [f64; 2]| grid.cell_of(Point2::new(v[0], v[1])).is_none_or(|i| near[i]);
+    let mut verts: Vec<[i64; 2]> = grid
+        .segments
+        .iter()
+        .flat_map(|s| s.iter().map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64]))
+        .filter(|v| near_vertex([v[0] as f64 / Q, v[1] as f64 / Q]))
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let turns: Vec<(f64, f64)> = (0..(360.0 / ARC_STEP_DEG).round() as usize).map(|k| (k as f64 * step).sin_cos()).collect();
+    let turns = &turns;
     verts
         .par_iter()
         .flat_map_iter(|v| {
             let v = [v[0] as f64 / Q, v[1] as f64 / Q];
-            (0..(360.0 / ARC_STEP_DEG).round() as usize).filter_map(move |k| {
-                let (sin, cos) = (k as f64 * step).sin_cos();
+            turns.iter().filter_map(move |&(sin, cos)| {
                 let p = [v[0] + big * cos, v[1] + big * sin];
                 let i = grid.cell_of(Point2::new(p[0], p[1]))?;
                 // Only in narrow passages: elsewhere the boundary cells' anchors cover the arc.
@@ -356,6 +363,24 @@ fn arc_nodes(grid: &NavGrid, passage: &[bool]) -> Vec<([f64; 2], [f64; 2], u32)>
             })
         })
         .collect()
+}
+
+/// `mask` grown by `reach` cells in every direction (a square of side `2 reach + 1`).
+fn dilate(mask: &[bool], w: usize, h: usize, reach: usize) -> Vec<bool> {
+    let mut rows = vec![false; w * h];
+    for r in 0..h {
+        let row = &mask[r * w..(r + 1) * w];
+        for c in 0..w {
+            rows[r * w + c] = row[c.saturating_sub(reach)..=(c + reach).min(w - 1)].iter().any(|&m| m);
+        }
+    }
+    let mut out = vec![false; w * h];
+    for r in 0..h {
+        for c in 0..w {
+            out[r * w + c] = (r.saturating_sub(reach)..=(r + reach).min(h - 1)).any(|y| rows[y * w + c]);
+        }
+    }
+    out
 }
 
 /// Per cell, whether it is a boundary cell in a passage at most three cells wide: cells off
