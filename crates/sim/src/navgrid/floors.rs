@@ -23,16 +23,11 @@ const BIN: f64 = 0.05;
 /// of its cluster (the top of a floor slab, not its bottom face).
 pub fn detect_floors(scene: &Scene, params: &AgentParams) -> Vec<Floor> {
     let cos_slope = params.max_slope_deg.to_radians().cos();
+    let walkable = walkable_triangles(scene, cos_slope);
+    // Summed in scene order, whatever the thread count.
     let mut hist: std::collections::BTreeMap<i64, f64> = Default::default();
-    for t in scene.triangles() {
-        let t = t.map(|p| p.map(|v| v as f64));
-        let Some(nz) = raster::abs_normal_z(&t) else { continue };
-        if nz < cos_slope {
-            continue;
-        }
-        let (_, proj) = raster::areas(&t);
-        let zc = (t[0][2] + t[1][2] + t[2][2]) / 3.0;
-        *hist.entry((zc / BIN).round() as i64).or_default() += proj;
+    for &(bin, proj, _) in &walkable {
+        *hist.entry(bin).or_default() += proj;
     }
     // Clusters: runs of bins no more than max_climb apart.
     let gap = (params.max_climb / BIN).ceil().max(1.0) as i64;
@@ -56,7 +51,7 @@ pub fn detect_floors(scene: &Scene, params: &AgentParams) -> Vec<Floor> {
         let peak = c.iter().map(|x| x.1).fold(0.0, f64::max);
         let top = c.iter().rev().find(|x| x.1 >= 0.5 * peak).map(|x| x.0).unwrap_or(c[0].0);
         // The exact height: the area-weighted mean of triangle heights in that bin.
-        floors.push(Floor { z: exact_height(scene, top, cos_slope), area: total });
+        floors.push(Floor { z: exact_height(&walkable, top), area: total });
     }
     floors
 }
@@ -99,21 +94,51 @@ fn split_storeys(c: Vec<(i64, f64)>, gap: i64) -> Vec<Vec<(i64, f64)>> {
 /// A bin holding at least this share of its cluster's largest bin may be a storey's slab.
 const SLAB_SHARE: f64 = 0.25;
 
-fn exact_height(scene: &Scene, bin: i64, cos_slope: f64) -> f64 {
+/// The walkable triangles of `scene` (slope within `cos_slope`), in scene order: each one's
+/// height bin, projected area (m^2) and centre height (m). Worked out in parallel over chunks
+/// of the meshes.
+fn walkable_triangles(scene: &Scene, cos_slope: f64) -> Vec<(i64, f64, f64)> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 4096;
+    let chunks: Vec<(usize, std::ops::Range<usize>)> = scene
+        .meshes
+        .iter()
+        .enumerate()
+        .flat_map(|(m, mesh)| {
+            let n = mesh.indices.len();
+            (0..n.div_ceil(CHUNK)).map(move |k| (m, k * CHUNK..((k + 1) * CHUNK).min(n)))
+        })
+        .collect();
+    let parts: Vec<Vec<(i64, f64, f64)>> = chunks
+        .par_iter()
+        .map(|(m, range)| {
+            range
+                .clone()
+                .filter_map(|ti| {
+                    let t = scene.meshes[*m].triangle(ti).map(|p| p.map(|v| v as f64));
+                    let nz = raster::abs_normal_z(&t)?;
+                    if nz < cos_slope {
+                        return None;
+                    }
+                    let (_, proj) = raster::areas(&t);
+                    let zc = (t[0][2] + t[1][2] + t[2][2]) / 3.0;
+                    Some(((zc / BIN).round() as i64, proj, zc))
+                })
+                .collect()
+        })
+        .collect();
+    parts.concat()
+}
+
+/// The exact height of a floor whose top bin is `bin`: the area-weighted mean of the centre
+/// heights of the walkable triangles in that bin (m).
+fn exact_height(walkable: &[(i64, f64, f64)], bin: i64) -> f64 {
     let (mut sa, mut sz) = (0.0, 0.0);
-    for t in scene.triangles() {
-        let t = t.map(|p| p.map(|v| v as f64));
-        let zc = (t[0][2] + t[1][2] + t[2][2]) / 3.0;
-        if (zc / BIN).round() as i64 != bin {
-            continue;
+    for &(b, a, zc) in walkable {
+        if b == bin {
+            sa += a;
+            sz += a * zc;
         }
-        match raster::abs_normal_z(&t) {
-            Some(nz) if nz >= cos_slope => {}
-            _ => continue,
-        }
-        let (_, a) = raster::areas(&t);
-        sa += a;
-        sz += a * zc;
     }
     if sa > 0.0 {
         sz / sa
