@@ -10,8 +10,12 @@ pub(crate) type Seg = [[f64; 2]; 2];
 
 /// Adds the edges of the part of `tri` between heights `lo` and `hi`, projected to 2D.
 pub(crate) fn band_segments(tri: &[[f64; 3]; 3], lo: f64, hi: f64, out: &mut Vec<Seg>) {
-    let mut poly = Vec::with_capacity(5);
-    super::raster::clip_slab(tri, 2, lo, hi, &mut poly);
+    band_segments_with(tri, lo, hi, &mut Vec::with_capacity(5), &mut Vec::with_capacity(5), out);
+}
+
+/// [`band_segments`] with buffers for the clipped polygon and the clip in between.
+pub(crate) fn band_segments_with(tri: &[[f64; 3]; 3], lo: f64, hi: f64, poly: &mut super::raster::Poly, tmp: &mut super::raster::Poly, out: &mut Vec<Seg>) {
+    super::raster::clip_slab_with(tri, 2, lo, hi, tmp, poly);
     let n = poly.len();
     if n == 0 {
         return;

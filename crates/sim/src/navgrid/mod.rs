@@ -201,11 +201,13 @@ impl NavGrid {
                 (0..n.div_ceil(GATHER_CHUNK)).map(move |k| (m, k * GATHER_CHUNK..((k + 1) * GATHER_CHUNK).min(n)))
             })
             .collect();
-        type Kept = ([[f64; 3]; 3], bool, bool, usize, usize);
+        // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
+        type Kept = (u32, u32, bool, bool, u32, u32);
         let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>)> = chunks
             .par_iter()
             .map(|(m, range)| {
                 let (mut kept, mut segs) = (Vec::new(), Vec::new());
+                let (mut poly, mut tmp) = (Vec::new(), Vec::new());
                 for ti in range.clone() {
                     let t = scene.meshes[*m].triangle(ti).map(|p| p.map(|v| v as f64));
                     let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
@@ -218,7 +220,7 @@ impl NavGrid {
                         continue;
                     }
                     if in_band {
-                        clearance::band_segments(&t, band_lo, band_hi, &mut segs);
+                        clearance::band_segments_with(&t, band_lo, band_hi, &mut poly, &mut tmp, &mut segs);
                     }
                     let (ymin, ymax) = (t[0][1].min(t[1][1]).min(t[2][1]), t[0][1].max(t[1][1]).max(t[2][1]));
                     let r0 = ((ymin - y0) / res).floor();
@@ -226,20 +228,21 @@ impl NavGrid {
                     if r1 < 0.0 || r0 >= h as f64 {
                         continue;
                     }
-                    let (r0, r1) = (r0.max(0.0) as usize, (r1 as usize).min(h - 1));
-                    kept.push((t, walkable, raster::normal_z_sign(&t) > 0.0, r0, r1));
+                    let (r0, r1) = (r0.max(0.0) as u32, (r1 as usize).min(h - 1) as u32);
+                    kept.push((*m as u32, ti as u32, walkable, raster::normal_z_sign(&t) > 0.0, r0, r1));
                 }
                 (kept, segs)
             })
             .collect();
-        let mut tris: Vec<([[f64; 3]; 3], bool, bool)> = Vec::new();
+        segs.reserve(gathered.iter().map(|g| g.1.len()).sum());
+        let mut tris: Vec<Kept> = Vec::with_capacity(gathered.iter().map(|g| g.0.len()).sum());
         let mut in_bands: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(RASTER_BAND_ROWS)];
         for (kept, chunk_segs) in gathered {
             segs.extend(chunk_segs);
-            for (t, walkable, faces_up, r0, r1) in kept {
+            for t in kept {
                 let k = tris.len() as u32;
-                tris.push((t, walkable, faces_up));
-                for b in r0 / RASTER_BAND_ROWS..=r1 / RASTER_BAND_ROWS {
+                tris.push(t);
+                for b in t.4 as usize / RASTER_BAND_ROWS..=t.5 as usize / RASTER_BAND_ROWS {
                     in_bands[b].push(k);
                 }
             }
@@ -250,13 +253,14 @@ impl NavGrid {
                 let rows = b * RASTER_BAND_ROWS..((b + 1) * RASTER_BAND_ROWS).min(h);
                 let first = rows.start * w;
                 for &k in list {
-                    let (t, walkable, faces_up) = &tris[k as usize];
+                    let (m, ti, walkable, faces_up, _, _) = tris[k as usize];
+                    let t = &scene.meshes[m as usize].triangle(ti as usize).map(|p| p.map(|v| v as f64));
                     raster::for_each_cell_in_rows(&spec, t, 0.0, rows.clone(), |c, r, lo, hi| {
                         let i = r * w + c - first;
                         if lo >= band_hi && (lo as f32) < roof[i].0 {
-                            roof[i] = (lo as f32, *faces_up);
+                            roof[i] = (lo as f32, faces_up);
                         }
-                        if *walkable && hi >= ground_lo && lo <= ground_hi {
+                        if walkable && hi >= ground_lo && lo <= ground_hi {
                             let g = hi.min(ground_hi) as f32;
                             if ground[i].is_nan() || g > ground[i] {
                                 ground[i] = g;

@@ -8,11 +8,11 @@
 pub(crate) type Poly = Vec<[f64; 3]>;
 
 /// Clips `poly` to `lo <= p[axis] <= hi` (Sutherland-Hodgman, two half-planes).
-pub(crate) fn clip_slab(poly: &[[f64; 3]], axis: usize, lo: f64, hi: f64, out: &mut Poly) {
-    let mut tmp: Poly = Vec::with_capacity(poly.len() + 2);
-    clip_half(poly, axis, lo, true, &mut tmp);
+/// `tmp` holds the polygon in between (no allocation once the buffers have grown).
+pub(crate) fn clip_slab_with(poly: &[[f64; 3]], axis: usize, lo: f64, hi: f64, tmp: &mut Poly, out: &mut Poly) {
+    clip_half(poly, axis, lo, true, tmp);
     out.clear();
-    clip_half(&tmp, axis, hi, false, out);
+    clip_half(tmp, axis, hi, false, out);
 }
 
 /// Keeps the part with `p[axis] >= v` (`keep_above`) or `p[axis] <= v`.
@@ -109,18 +109,69 @@ pub(crate) fn for_each_cell_in_rows(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f6
         }
         return;
     }
-    let mut row_poly: Poly = Vec::with_capacity(8);
-    let mut cell_poly: Poly = Vec::with_capacity(10);
+    // The three polygons' buffers are the thread's own, reused (fresh ones for a call made
+    // from within `f`).
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut bufs) => {
+            let (row_poly, cell_poly, tmp) = &mut *bufs;
+            cells_in_rows(g, tri, inset, rows, (c0, c1, r0, r1), row_poly, cell_poly, tmp, &mut f);
+        }
+        Err(_) => {
+            let (mut row_poly, mut cell_poly, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
+            cells_in_rows(g, tri, inset, rows, (c0, c1, r0, r1), &mut row_poly, &mut cell_poly, &mut tmp, &mut f);
+        }
+    });
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<(Poly, Poly, Poly)> = const { std::cell::RefCell::new((Vec::new(), Vec::new(), Vec::new())) };
+}
+
+/// The body of [`for_each_cell_in_rows`] over the triangle's cell range `(c0, c1, r0, r1)`,
+/// with buffers for the row's piece, the cell's piece and the clip in between.
+#[allow(clippy::too_many_arguments)]
+fn cells_in_rows(
+    g: &GridSpec,
+    tri: &[[f64; 3]; 3],
+    inset: f64,
+    rows: std::ops::Range<usize>,
+    (c0, c1, r0, r1): (usize, usize, usize, usize),
+    row_poly: &mut Poly,
+    cell_poly: &mut Poly,
+    tmp: &mut Poly,
+    f: &mut impl FnMut(usize, usize, f64, f64),
+) {
+    let flat = tri[0][2].to_bits() == tri[1][2].to_bits() && tri[1][2].to_bits() == tri[2][2].to_bits() && 2.0 * inset < g.res;
     for r in r0.max(rows.start)..=r1.min(rows.end.saturating_sub(1)) {
         let ylo = g.y0 + r as f64 * g.res;
-        clip_slab(tri, 1, ylo + inset, ylo + g.res - inset, &mut row_poly);
+        clip_slab_with(tri, 1, ylo + inset, ylo + g.res - inset, tmp, row_poly);
         if row_poly.is_empty() {
             continue;
         }
-        for c in c0..=c1 {
+        // Only the columns the row's piece reaches (and one more on each side, for a piece
+        // ending on a cell's edge and for rounding): the others clip to nothing.
+        let (pmin, pmax) = row_poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+        let pc0 = ((pmin - g.x0) / g.res).floor() - 1.0;
+        let pc1 = ((pmax - g.x0) / g.res).floor() + 1.0;
+        let lo_c = if pc0 > c0 as f64 { pc0 as usize } else { c0 };
+        let hi_c = if pc1 < c1 as f64 { pc1 as usize } else { c1 };
+        if flat {
+            // A level triangle's piece in a cell is at its height wherever the cell's column
+            // meets the row's piece, which is convex: where their x ranges overlap (the same
+            // cells, and the same bits, as clipping).
+            let z = tri[0][2];
+            for c in lo_c..=hi_c {
+                let xlo = g.x0 + c as f64 * g.res;
+                if pmax >= xlo + inset && pmin <= xlo + g.res - inset {
+                    f(c, r, z, z);
+                }
+            }
+            continue;
+        }
+        for c in lo_c..=hi_c {
             let xlo = g.x0 + c as f64 * g.res;
-            clip_slab(&row_poly, 0, xlo + inset, xlo + g.res - inset, &mut cell_poly);
-            if let Some((lo, hi)) = z_range(&cell_poly) {
+            clip_slab_with(row_poly, 0, xlo + inset, xlo + g.res - inset, tmp, cell_poly);
+            if let Some((lo, hi)) = z_range(cell_poly) {
                 f(c, r, lo, hi);
             }
         }
@@ -190,6 +241,51 @@ mod tests {
         });
         // 10 rows: row r touches cells c with c*0.1 < 1 - r*0.1, i.e. 10 - r cells, plus the diagonal ones.
         assert!((55..=65).contains(&n), "{n}");
+    }
+
+    /// Every cell of the triangle's bounding box clipped on its own: row slab, then column slab.
+    fn clip_every_cell(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f64) -> Vec<(usize, usize, u64, u64)> {
+        let (mut tmp, mut row, mut cell) = (Vec::new(), Vec::new(), Vec::new());
+        let cell_of = |v: f64, o: f64, n: usize| (((v - o) / g.res).floor().max(0.0) as usize).min(n - 1);
+        let (xs, ys) = (tri.map(|p| cell_of(p[0], g.x0, g.w)), tri.map(|p| cell_of(p[1], g.y0, g.h)));
+        let mut out = Vec::new();
+        for r in *ys.iter().min().unwrap()..=*ys.iter().max().unwrap() {
+            let ylo = g.y0 + r as f64 * g.res;
+            clip_slab_with(tri, 1, ylo + inset, ylo + g.res - inset, &mut tmp, &mut row);
+            for c in *xs.iter().min().unwrap()..=*xs.iter().max().unwrap() {
+                let xlo = g.x0 + c as f64 * g.res;
+                clip_slab_with(&row, 0, xlo + inset, xlo + g.res - inset, &mut tmp, &mut cell);
+                if let Some((lo, hi)) = z_range(&cell) {
+                    out.push((c, r, lo.to_bits(), hi.to_bits()));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn only_the_cells_a_row_reaches_and_level_triangles_give_what_clipping_every_cell_gives() {
+        let g = GridSpec { x0: -0.3, y0: 0.17, res: 0.05, w: 40, h: 37 };
+        let tris = [
+            // Level: a floor, one with corners on cell edges, a sliver.
+            [[-0.2, 0.2, 0.1], [1.5, 0.4, 0.1], [0.3, 1.9, 0.1]],
+            [[-0.25, 0.22, 0.4], [0.45, 0.22, 0.4], [-0.25, 0.92, 0.4]],
+            [[0.0, 0.5, 0.0], [1.2, 0.52, 0.0], [0.6, 0.51, 0.0]],
+            // Sloped and upright.
+            [[-0.2, 0.2, 0.1], [1.5, 0.4, 0.9], [0.3, 1.9, 0.4]],
+            [[0.0, 0.61, 0.0], [1.0, 0.61, 0.0], [0.0, 0.61, 2.0]],
+            [[-1.0, -1.0, 0.0], [3.0, 0.5, 1.0], [0.5, 3.0, 2.0]],
+        ];
+        for t in &tris {
+            for inset in [0.0, 1e-6] {
+                let mut fast = Vec::new();
+                for_each_cell_inset(&g, t, inset, |c, r, lo, hi| fast.push((c, r, lo.to_bits(), hi.to_bits())));
+                let want = clip_every_cell(&g, t, inset);
+                let extra: Vec<_> = fast.iter().filter(|x| !want.contains(x)).collect();
+                let missing: Vec<_> = want.iter().filter(|x| !fast.contains(x)).collect();
+                assert_eq!(fast, want, "{t:?} inset {inset}: extra {extra:?} missing {missing:?}");
+            }
+        }
     }
 
     #[test]
