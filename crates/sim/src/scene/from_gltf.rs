@@ -75,7 +75,7 @@ pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) ->
             stack.push((c, m, depth + 1));
         }
     }
-    out.textures = textures.textures;
+    out.textures = textures.finish()?;
     Ok(out)
 }
 

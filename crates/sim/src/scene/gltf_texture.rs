@@ -7,26 +7,28 @@ use base64::Engine;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// The textures of one glTF file, loaded on first use.
+/// The textures of one glTF file: each image's bytes read on first use, all decoded at the
+/// end, in parallel ([`GltfTextures::finish`]).
 pub(crate) struct GltfTextures<'a> {
     /// The glTF file (for messages).
     path: &'a Path,
     /// Reads the files relative URIs name.
     read: ReadReferenced<'a>,
     buffers: &'a [Vec<u8>],
-    /// (image index, wrap s, wrap t) to the index in `textures`.
+    /// (image index, wrap s, wrap t) to the index in `pending`.
     loaded: HashMap<(usize, Wrap, Wrap), u32>,
-    /// The decoded textures, in order of first use.
-    pub(crate) textures: Vec<Texture>,
+    /// The textures to decode, in order of first use: the image's name, its encoded bytes,
+    /// its wrap modes and the mesh that first used it (for messages).
+    pending: Vec<(String, Vec<u8>, Wrap, Wrap, String)>,
 }
 
 impl<'a> GltfTextures<'a> {
     pub(crate) fn new(path: &'a Path, buffers: &'a [Vec<u8>], read: ReadReferenced<'a>) -> Self {
-        Self { path, read, buffers, loaded: HashMap::new(), textures: Vec::new() }
+        Self { path, read, buffers, loaded: HashMap::new(), pending: Vec::new() }
     }
 
-    /// The index of `tex` in the scene's texture table, decoding its image on first use; the
-    /// error names the file, the mesh and the image.
+    /// The index of `tex` in the scene's texture table, reading its image's bytes on first
+    /// use; the error names the file, the mesh and the image.
     pub(crate) fn get(&mut self, tex: &gltf::Texture, mesh: &str) -> Result<u32, SceneError> {
         let sampler = tex.sampler();
         let (ws, wt) = (Wrap::from_gltf(sampler.wrap_s()), Wrap::from_gltf(sampler.wrap_t()));
@@ -39,13 +41,24 @@ impl<'a> GltfTextures<'a> {
             gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => uri.to_string(),
             _ => format!("image {}", image.index()),
         };
-        let err = |reason: String| SceneError::Texture { path: self.path.to_path_buf(), mesh: mesh.to_string(), image: name.clone(), reason };
-        let bytes = self.bytes(&image.source()).map_err(err)?;
-        let t = Texture::decode(&name, &bytes, ws, wt).map_err(err)?;
-        let i = self.textures.len() as u32;
-        self.textures.push(t);
+        let bytes = self.bytes(&image.source()).map_err(|reason| texture_error(self.path, mesh, &name, reason))?;
+        let i = self.pending.len() as u32;
+        self.pending.push((name, bytes, ws, wt, mesh.to_string()));
         self.loaded.insert(key, i);
         Ok(i)
+    }
+
+    /// The decoded textures, in the order [`GltfTextures::get`] numbered them (decoded in
+    /// parallel; the first that fails in that order is the error).
+    pub(crate) fn finish(self) -> Result<Vec<Texture>, SceneError> {
+        use rayon::prelude::*;
+        let path = self.path;
+        self.pending
+            .into_par_iter()
+            .map(|(name, bytes, ws, wt, mesh)| Texture::decode(&name, &bytes, ws, wt).map_err(|reason| texture_error(path, &mesh, &name, reason)))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect()
     }
 
     /// The encoded bytes of an image.
@@ -61,6 +74,10 @@ impl<'a> GltfTextures<'a> {
             gltf::image::Source::Uri { uri, .. } => read_uri(uri, self.read),
         }
     }
+}
+
+fn texture_error(path: &Path, mesh: &str, image: &str, reason: String) -> SceneError {
+    SceneError::Texture { path: path.to_path_buf(), mesh: mesh.to_string(), image: image.to_string(), reason }
 }
 
 /// The bytes a glTF URI names: a base64 data URI, or a file (relative to the glTF's folder,
