@@ -47,7 +47,16 @@ pub struct CornerGraph {
     /// Legs: those of node k are `legs[start[k]..start[k + 1]]` (other node, length in m).
     start: Vec<u32>,
     legs: Vec<(u32, f64)>,
+    /// The nodes by square of [`BUCKET_M`]: each non-empty square's bounds (m: x min, y min,
+    /// x max, y max) and its nodes, `bucket_nodes[bucket_start[b]..bucket_start[b + 1]]`, in
+    /// node order; a query seeds a square's nodes only when its search gets that far.
+    bucket_rect: Vec<[f64; 4]>,
+    bucket_start: Vec<u32>,
+    bucket_nodes: Vec<u32>,
 }
+
+/// Side of the squares a query seeds its search by (m).
+const BUCKET_M: f64 = 1.0;
 
 impl CornerGraph {
     /// Builds the graph of `grid` (in parallel over nodes; the same graph for any thread count).
@@ -61,6 +70,9 @@ impl CornerGraph {
             island: cells.iter().map(|&i| grid.island_of[i]).collect(),
             start: Vec::new(),
             legs: Vec::new(),
+            bucket_rect: Vec::new(),
+            bucket_start: Vec::new(),
+            bucket_nodes: Vec::new(),
         };
         for &i in &cells {
             let (n, t) = outward_normal(grid, i);
@@ -113,7 +125,32 @@ impl CornerGraph {
             g.legs.extend_from_slice(list);
             g.start.push(g.legs.len() as u32);
         }
+        g.fill_buckets();
         g
+    }
+
+    /// Sorts the nodes into squares of [`BUCKET_M`] (see `bucket_rect`).
+    fn fill_buckets(&mut self) {
+        if self.pos.is_empty() {
+            self.bucket_start.push(0);
+            return;
+        }
+        let (x0, y0) = self.pos.iter().fold((f64::INFINITY, f64::INFINITY), |(x, y), p| (x.min(p[0]), y.min(p[1])));
+        let square = |p: &[f64; 2]| (((p[1] - y0) / BUCKET_M) as u64, ((p[0] - x0) / BUCKET_M) as u64);
+        let mut order: Vec<((u64, u64), u32)> = self.pos.iter().enumerate().map(|(k, p)| (square(p), k as u32)).collect();
+        order.sort_unstable();
+        self.bucket_start.push(0);
+        for (i, &(sq, k)) in order.iter().enumerate() {
+            if i > 0 && order[i - 1].0 != sq {
+                self.bucket_start.push(self.bucket_nodes.len() as u32);
+            }
+            if i == 0 || order[i - 1].0 != sq {
+                let (xa, ya) = (x0 + sq.1 as f64 * BUCKET_M, y0 + sq.0 as f64 * BUCKET_M);
+                self.bucket_rect.push([xa, ya, xa + BUCKET_M, ya + BUCKET_M]);
+            }
+            self.bucket_nodes.push(k);
+        }
+        self.bucket_start.push(self.bucket_nodes.len() as u32);
     }
 
     /// Number of nodes.
@@ -194,15 +231,29 @@ impl CornerGraph {
             let mut sc = sc.borrow_mut();
             sc.reset(self.len());
             let Scratch { dist, done, heap } = &mut *sc;
-            // Entries: (key bits, node, whether the node's leg from `to` is still unverified).
-            // The seeds are heapified at once (linear), not pushed one by one.
+            // Entries: (key bits, 0 for a square of nodes or 1 for a node, square or node,
+            // whether the node's leg from `to` is still unverified). A square's key is a lower
+            // bound (less a nanometre, for rounding) of its nodes' seed keys, so it is taken
+            // before any of them would have been: the nodes come in the order they would have
+            // come had every seed been pushed at the start. The squares are heapified at once.
             let mut seeds = std::mem::take(heap).into_vec();
-            seeds.extend((0..self.len()).filter(|&k| self.island[k] == ia).map(|k| {
-                let a = self.pos[k];
-                Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), k as u32, true))
+            let direct = dist2(g, s);
+            seeds.extend(self.bucket_rect.iter().enumerate().map(|(b, r)| {
+                let bound = (rect_dist(r, g) + rect_dist(r, s)).max(direct) - 1e-9;
+                Reverse((bound.max(0.0).to_bits(), 0u8, b as u32, false))
             }));
             *heap = BinaryHeap::from(seeds);
-            while let Some(Reverse((key, k, seed))) = heap.pop() {
+            while let Some(Reverse((key, kind, k, seed))) = heap.pop() {
+                if kind == 0 {
+                    let b = k as usize;
+                    for &k in &self.bucket_nodes[self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize] {
+                        if self.island[k as usize] == ia {
+                            let a = self.pos[k as usize];
+                            heap.push(Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), 1, k, true)));
+                        }
+                    }
+                    continue;
+                }
                 let k = k as usize;
                 if done[k] {
                     continue;
@@ -225,7 +276,7 @@ impl CornerGraph {
                     let nd = dist[k] + l;
                     if !done[b] && nd < dist[b] {
                         dist[b] = nd;
-                        heap.push(Reverse(((nd + dist2(self.pos[b], s)).to_bits(), b as u32, false)));
+                        heap.push(Reverse(((nd + dist2(self.pos[b], s)).to_bits(), 1, b as u32, false)));
                     }
                 }
             }
@@ -239,7 +290,7 @@ impl CornerGraph {
 struct Scratch {
     dist: Vec<f64>,
     done: Vec<bool>,
-    heap: BinaryHeap<Reverse<(u64, u32, bool)>>,
+    heap: BinaryHeap<Reverse<(u64, u8, u32, bool)>>,
 }
 
 impl Scratch {
@@ -271,6 +322,13 @@ pub(crate) fn end_eps(grid: &NavGrid, p: [f64; 2]) -> f64 {
         Some(d) => (grid.params.radius - d + 1e-6).clamp(LOS_EPS, most),
         None => crate::navgrid::NAV_TOLERANCE,
     }
+}
+
+/// Distance from `p` to the rectangle `r` (x min, y min, x max, y max), 0 inside (m).
+fn rect_dist(r: &[f64; 4], p: [f64; 2]) -> f64 {
+    let dx = (r[0] - p[0]).max(p[0] - r[2]).max(0.0);
+    let dy = (r[1] - p[1]).max(p[1] - r[3]).max(0.0);
+    (dx * dx + dy * dy).sqrt()
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
