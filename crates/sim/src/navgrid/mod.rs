@@ -125,11 +125,6 @@ pub struct NavGrid {
     /// Per cell, one bit: whether its [`block_margin`](Self::block_margin) exceeds
     /// [`LOS_EPS`](crate::geodesic::LOS_EPS).
     pub(crate) los_blocked: Vec<u64>,
-    /// Per cell, where its neighbourhood's nearest segments start in
-    /// [`near_list`](Self::near_list) (one more entry than cells).
-    pub(crate) near_start: Vec<u32>,
-    /// The distinct nearest segments of each cell and its eight neighbours, cell after cell.
-    pub(crate) near_list: Vec<u32>,
     /// The geodesic fields built lately on this grid.
     pub(crate) fields: crate::field_cache::FieldCache,
     /// The bend points of shortest paths and the legs between them, built on first use.
@@ -334,12 +329,9 @@ impl NavGrid {
             nearest,
             block_margin: Vec::new(),
             los_blocked: Vec::new(),
-            near_start: Vec::new(),
-            near_list: Vec::new(),
             fields: Default::default(),
             corner_graph: Default::default(),
         };
-        (grid.near_start, grid.near_list) = grid.neighbourhood_segments();
         grid.block_margin = crate::geodesic::block_margins(&grid);
         grid.los_blocked = crate::geodesic::los_bits(&grid.block_margin);
         grid.label_islands();
@@ -642,49 +634,24 @@ impl NavGrid {
     /// only: elsewhere in the cell another can be nearer (a wall sliced into pieces, the other
     /// side of a corner), and each such segment is the nearest of a neighbouring centre.
     pub(crate) fn nearest_segment_distance(&self, i: usize, s: &clearance::Seg) -> Option<f64> {
-        let list = &self.near_list[self.near_start[i] as usize..self.near_start[i + 1] as usize];
+        let (w, h) = (self.spec.w, self.spec.h);
+        let (c, r) = (i % w, i / w);
+        let mut seen = [u32::MAX; 9];
         let mut best: Option<f64> = None;
-        for &k in list {
-            let d = clearance::segment_segment_distance(s, &self.segments[k as usize]);
-            best = Some(best.map_or(d, |b: f64| b.min(d)));
+        for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
+                let k = self.nearest[rr * w + cc];
+                if k == u32::MAX || seen.contains(&k) {
+                    continue;
+                }
+                if let Some(slot) = seen.iter_mut().find(|x| **x == u32::MAX) {
+                    *slot = k;
+                }
+                let d = clearance::segment_segment_distance(s, &self.segments[k as usize]);
+                best = Some(best.map_or(d, |b: f64| b.min(d)));
+            }
         }
         best
-    }
-
-    /// Per cell, the distinct nearest segments of it and its eight neighbours, in row order:
-    /// cell `i`'s are `list[start[i]..start[i + 1]]` (what [`NavGrid::nearest_segment_distance`]
-    /// measures against, gathered once; rows in parallel).
-    fn neighbourhood_segments(&self) -> (Vec<u32>, Vec<u32>) {
-        let (w, h) = (self.spec.w, self.spec.h);
-        let rows: Vec<(Vec<u32>, Vec<u32>)> = (0..h)
-            .into_par_iter()
-            .map(|r| {
-                let (mut counts, mut list) = (Vec::with_capacity(w), Vec::new());
-                for c in 0..w {
-                    let before = list.len();
-                    for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
-                        for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
-                            let k = self.nearest[rr * w + cc];
-                            if k != u32::MAX && !list[before..].contains(&k) {
-                                list.push(k);
-                            }
-                        }
-                    }
-                    counts.push((list.len() - before) as u32);
-                }
-                (counts, list)
-            })
-            .collect();
-        let mut start = Vec::with_capacity(w * h + 1);
-        let mut list = Vec::with_capacity(rows.iter().map(|r| r.1.len()).sum());
-        start.push(0u32);
-        for (counts, row) in rows {
-            for n in counts {
-                start.push(start[start.len() - 1] + n);
-            }
-            list.extend(row);
-        }
-        (start, list)
     }
 
     fn find_corners(&mut self) {
