@@ -100,15 +100,7 @@ const SLAB_SHARE: f64 = 0.25;
 fn walkable_triangles(scene: &Scene, cos_slope: f64) -> Vec<(i64, f64, f64)> {
     use rayon::prelude::*;
     const CHUNK: usize = 4096;
-    let chunks: Vec<(usize, std::ops::Range<usize>)> = scene
-        .meshes
-        .iter()
-        .enumerate()
-        .flat_map(|(m, mesh)| {
-            let n = mesh.indices.len();
-            (0..n.div_ceil(CHUNK)).map(move |k| (m, k * CHUNK..((k + 1) * CHUNK).min(n)))
-        })
-        .collect();
+    let chunks = scene.triangle_chunks(CHUNK);
     let parts: Vec<Vec<(i64, f64, f64)>> = chunks
         .par_iter()
         .map(|(m, range)| {

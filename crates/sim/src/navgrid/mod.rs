@@ -192,15 +192,7 @@ impl NavGrid {
         // each with its flags and rows; then bands of rows are filled in parallel, every band
         // taking its triangles in scene order (the same cells as one pass, any thread count).
         // Chunks of the meshes' triangles in parallel, joined in scene order.
-        let chunks: Vec<(usize, std::ops::Range<usize>)> = scene
-            .meshes
-            .iter()
-            .enumerate()
-            .flat_map(|(m, mesh)| {
-                let n = mesh.indices.len();
-                (0..n.div_ceil(GATHER_CHUNK)).map(move |k| (m, k * GATHER_CHUNK..((k + 1) * GATHER_CHUNK).min(n)))
-            })
-            .collect();
+        let chunks = scene.triangle_chunks(GATHER_CHUNK);
         // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
         type Kept = (u32, u32, bool, bool, u32, u32);
         let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>)> = chunks

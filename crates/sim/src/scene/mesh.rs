@@ -100,6 +100,19 @@ impl Scene {
     pub fn triangles(&self) -> impl Iterator<Item = [[f32; 3]; 3]> + '_ {
         self.meshes.iter().flat_map(|m| (0..m.indices.len()).map(move |t| m.triangle(t)))
     }
+    /// The triangles in chunks of at most `n` (each within one mesh), in scene order: (mesh
+    /// index, triangle indices), to share work between threads and join it back in order.
+    pub fn triangle_chunks(&self, n: usize) -> Vec<(usize, std::ops::Range<usize>)> {
+        let n = n.max(1);
+        self.meshes
+            .iter()
+            .enumerate()
+            .flat_map(|(m, mesh)| {
+                let len = mesh.indices.len();
+                (0..len.div_ceil(n)).map(move |k| (m, k * n..((k + 1) * n).min(len)))
+            })
+            .collect()
+    }
     /// Adds an axis-aligned box from `min` to `max` (m) as a closed mesh of 12 triangles.
     pub fn add_box(&mut self, name: &str, min: [f32; 3], max: [f32; 3], color: [f32; 4]) {
         let [x0, y0, z0] = min;
