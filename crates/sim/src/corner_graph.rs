@@ -141,10 +141,11 @@ impl CornerGraph {
         order.sort_unstable();
         self.bucket_start.push(0);
         for (i, &(sq, k)) in order.iter().enumerate() {
-            if i > 0 && order[i - 1].0 != sq {
-                self.bucket_start.push(self.bucket_nodes.len() as u32);
-            }
             if i == 0 || order[i - 1].0 != sq {
+                // A new square: the previous one ends here.
+                if i > 0 {
+                    self.bucket_start.push(self.bucket_nodes.len() as u32);
+                }
                 let (xa, ya) = (x0 + sq.1 as f64 * BUCKET_M, y0 + sq.0 as f64 * BUCKET_M);
                 self.bucket_rect.push([xa, ya, xa + BUCKET_M, ya + BUCKET_M]);
             }

@@ -194,21 +194,12 @@ pub(crate) fn block_margins(grid: &NavGrid) -> Vec<f32> {
             if cl <= 0.0 {
                 return f32::INFINITY;
             }
-            let m = match grid.nearest[i] {
-                u32::MAX => {
-                    let (c, row) = (i % w, i / w);
-                    let near_segment = (row.saturating_sub(1)..=(row + 1).min(h - 1))
-                        .any(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).any(|x| grid.nearest[y * w + x] != u32::MAX));
-                    if near_segment || r - cl <= 0.25 * res {
-                        return f32::NEG_INFINITY;
-                    }
-                    r - cl
-                }
-                k => {
-                    let c = grid.center(i);
-                    let q = crate::navgrid::closest_on_segment(c, &grid.segments[k as usize]);
-                    r - (q[0] - c[0]).hypot(q[1] - c[1]) - HALF_DIAGONAL * res
-                }
+            let c = grid.center(i);
+            let m = match grid.nearest_point(i, c) {
+                Some(q) => r - (q[0] - c[0]).hypot(q[1] - c[1]) - HALF_DIAGONAL * res,
+                // The walk's test reads the clearance only where no segment is near at all.
+                None if grid.nearest_segment_distance(i, &[c, c]).is_none() && r - cl > 0.25 * res => r - cl,
+                None => return f32::NEG_INFINITY,
             };
             if m <= 0.0 {
                 f32::NEG_INFINITY

@@ -188,10 +188,10 @@ impl NavGrid {
         // cell is inside a closed solid: a shelf, a wall's core).
         let mut roof = vec![(f32::INFINITY, false); n];
         let mut segs = Vec::new();
-        // The triangles that matter (walkable, in the body band, or above it), in scene order,
-        // each with its flags and rows; then bands of rows are filled in parallel, every band
-        // taking its triangles in scene order (the same cells as one pass, any thread count).
-        // Chunks of the meshes' triangles in parallel, joined in scene order.
+        // The triangles that matter (walkable, in the body band, or above it), sorted in
+        // parallel chunks joined in scene order, each with its flags and rows; then bands of
+        // rows are filled in parallel, every band taking its triangles in scene order (the
+        // same cells as one pass, any thread count).
         let chunks = scene.triangle_chunks(GATHER_CHUNK);
         // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
         type Kept = (u32, u32, bool, bool, u32, u32);

@@ -109,40 +109,41 @@ pub(crate) fn for_each_cell_in_rows(g: &GridSpec, tri: &[[f64; 3]; 3], inset: f6
         }
         return;
     }
-    // The three polygons' buffers are the thread's own, reused (fresh ones for a call made
-    // from within `f`).
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut bufs) => {
-            let (row_poly, cell_poly, tmp) = &mut *bufs;
-            cells_in_rows(g, tri, inset, rows, (c0, c1, r0, r1), row_poly, cell_poly, tmp, &mut f);
-        }
-        Err(_) => {
-            let (mut row_poly, mut cell_poly, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
-            cells_in_rows(g, tri, inset, rows, (c0, c1, r0, r1), &mut row_poly, &mut cell_poly, &mut tmp, &mut f);
-        }
+    // The polygons' buffers are the thread's own, reused (fresh ones for a call made from
+    // within `f`).
+    let rows = r0.max(rows.start)..=r1.min(rows.end.saturating_sub(1));
+    CLIPS.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut clips) => cells_in_rows(g, tri, inset, rows, c0..=c1, &mut clips, &mut f),
+        Err(_) => cells_in_rows(g, tri, inset, rows, c0..=c1, &mut Clips::default(), &mut f),
     });
 }
 
-thread_local! {
-    static SCRATCH: std::cell::RefCell<(Poly, Poly, Poly)> = const { std::cell::RefCell::new((Vec::new(), Vec::new(), Vec::new())) };
+/// Buffers for a row's piece of a triangle, a cell's piece and the clip in between.
+#[derive(Default)]
+struct Clips {
+    row: Poly,
+    cell: Poly,
+    tmp: Poly,
 }
 
-/// The body of [`for_each_cell_in_rows`] over the triangle's cell range `(c0, c1, r0, r1)`,
-/// with buffers for the row's piece, the cell's piece and the clip in between.
-#[allow(clippy::too_many_arguments)]
+thread_local! {
+    static CLIPS: std::cell::RefCell<Clips> = std::cell::RefCell::new(Clips::default());
+}
+
+/// The body of [`for_each_cell_in_rows`] over the triangle's `rows` and `cols`.
 fn cells_in_rows(
     g: &GridSpec,
     tri: &[[f64; 3]; 3],
     inset: f64,
-    rows: std::ops::Range<usize>,
-    (c0, c1, r0, r1): (usize, usize, usize, usize),
-    row_poly: &mut Poly,
-    cell_poly: &mut Poly,
-    tmp: &mut Poly,
+    rows: std::ops::RangeInclusive<usize>,
+    cols: std::ops::RangeInclusive<usize>,
+    clips: &mut Clips,
     f: &mut impl FnMut(usize, usize, f64, f64),
 ) {
+    let (c0, c1) = (*cols.start(), *cols.end());
+    let Clips { row: row_poly, cell: cell_poly, tmp } = clips;
     let flat = tri[0][2].to_bits() == tri[1][2].to_bits() && tri[1][2].to_bits() == tri[2][2].to_bits() && 2.0 * inset < g.res;
-    for r in r0.max(rows.start)..=r1.min(rows.end.saturating_sub(1)) {
+    for r in rows {
         let ylo = g.y0 + r as f64 * g.res;
         clip_slab_with(tri, 1, ylo + inset, ylo + g.res - inset, tmp, row_poly);
         if row_poly.is_empty() {
