@@ -86,27 +86,35 @@ impl CornerGraph {
             g.island.push(island);
         }
         let n = g.pos.len();
-        // Each node's legs to the nodes after it, then mirrored.
+        // Each node's legs to the nodes after it, then mirrored. The taut and island tests
+        // run first over all later nodes without a branch (about half the pairs pass, at
+        // random), leaving the candidates for the line-of-sight test.
+        let (xs, ys): (Vec<f64>, Vec<f64>) = g.pos.iter().map(|p| (p[0], p[1])).unzip();
+        let (nx, ny): (Vec<f64>, Vec<f64>) = g.normal.iter().map(|m| (m[0], m[1])).unzip();
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
-            .map(|a| {
-                let mut out = Vec::new();
+            .map_init(Vec::new, |cand, a| {
+                let (xa, ya, nxa, nya, ta, ia) = (xs[a], ys[a], nx[a], ny[a], g.taut[a], g.island[a]);
+                cand.clear();
+                cand.resize(n - a, 0u32);
+                let mut m = 0;
                 for b in a + 1..n {
-                    if g.island[a] != g.island[b] {
-                        continue;
-                    }
-                    let (pa, pb) = (g.pos[a], g.pos[b]);
-                    let d = [pb[0] - pa[0], pb[1] - pa[1]];
-                    let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
-                    if l < 1e-9 {
-                        continue;
-                    }
-                    let u = [d[0] / l, d[1] / l];
-                    if !g.is_taut(a, u) || !g.is_taut(b, [-u[0], -u[1]]) {
-                        continue;
-                    }
+                    let (dx, dy) = (xs[b] - xa, ys[b] - ya);
+                    let l = (dx * dx + dy * dy).sqrt();
+                    let (ux, uy) = (dx / l, dy / l);
+                    // `is_taut` at both ends, in its arithmetic.
+                    let taut_a = ux * nxa + uy * nya <= ta;
+                    let taut_b = -ux * nx[b] + -uy * ny[b] <= g.taut[b];
+                    cand[m] = b as u32;
+                    m += (g.island[b] == ia && l >= 1e-9 && taut_a && taut_b) as usize;
+                }
+                let pa = g.pos[a];
+                let mut out = Vec::new();
+                for &b in &cand[..m] {
+                    let pb = g.pos[b as usize];
                     if segment_clear(grid, pa, pb, LOS_EPS) {
-                        out.push((b as u32, l));
+                        let d = [pb[0] - pa[0], pb[1] - pa[1]];
+                        out.push((b, (d[0] * d[0] + d[1] * d[1]).sqrt()));
                     }
                 }
                 out

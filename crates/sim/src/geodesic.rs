@@ -8,7 +8,7 @@
 //! `radius` from the obstacle. A query at any point `p` is then `D(anchor) + |anchor - p|`:
 //! O(1), with no grid-step error.
 
-use crate::navgrid::NavGrid;
+use crate::navgrid::{NavGrid, SegmentLine};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use xhab_types::Point2;
@@ -173,6 +173,9 @@ const HALF_DIAGONAL: f64 = 0.7072;
 /// Cells between the samples of [`segment_clear`]'s first pass.
 const SAMPLE_STRIDE: f64 = 6.0;
 
+/// One cell in the fixed point of [`segment_clear`]'s samples.
+const FIXED_ONE: f64 = 4_294_967_296.0;
+
 /// Per cell of `grid`, the line-of-sight tolerance (m) below which [`segment_clear`]'s test of
 /// that cell fails for every segment through it: infinite where the cell is off the region,
 /// `radius - d - half diagonal` where the cell's nearest obstacle segment is `d` from its
@@ -237,6 +240,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let o = grid.origin();
     let r = grid.params.radius;
     let sure = r + HALF_DIAGONAL * res;
+    let line = SegmentLine::new(a, b);
     let check = |i: usize| -> bool {
         let cl = grid.clearance[i] as f64;
         if cl >= sure {
@@ -245,8 +249,8 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
         if cl <= 0.0 {
             return false;
         }
-        match grid.nearest_segment_distance(i, &[a, b]) {
-            Some(d) => d >= r - eps,
+        match grid.nearest_segments_clear(i, &line, r - eps) {
+            Some(clear) => clear,
             None => cl >= r - eps.max(0.25 * res),
         }
     };
@@ -261,21 +265,39 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     }
     let samples = ((fx1 - fx0).abs().max((fy1 - fy0).abs()) / SAMPLE_STRIDE) as usize;
     if samples > 0 {
-        // Coordinates are non-negative here: truncation is the floor (a call without SSE4.1).
-        let inner = |v: f64, c: usize| {
-            let f = v - c as f64;
-            f > 1e-6 && f < 1.0 - 1e-6
-        };
-        // The bits (small enough for the first-level cache) where they hold for `eps`.
-        let bits = &grid.los_blocked;
-        let blocked = |i: usize| if eps <= LOS_EPS { bits[i >> 6] >> (i & 63) & 1 != 0 } else { grid.block_margin[i] as f64 > eps };
+        // The samples in fixed point (cells times 2^32; coordinates are non-negative here), so
+        // that each costs two additions. A sample is used only when it is farther from its
+        // cell's edges than a millionth of a cell plus the rounding of the fixed point (half a
+        // unit per sample and at the start).
         let step = 1.0 / (samples + 1) as f64;
-        for k in 1..=samples {
-            let t = k as f64 * step;
-            let (x, y) = (fx0 + t * (fx1 - fx0), fy0 + t * (fy1 - fy0));
-            let (cx, cy) = (x as usize, y as usize);
-            if inner(x, cx) && inner(y, cy) && blocked(cy * w + cx) {
-                return false;
+        // Rounded half away from zero, without a libm call.
+        let fixed = |v: f64| (v * FIXED_ONE + 0.5f64.copysign(v)) as i64;
+        let (mut x, mut y) = (fixed(fx0), fixed(fy0));
+        let (sx, sy) = (fixed((fx1 - fx0) * step), fixed((fy1 - fy0) * step));
+        let margin = (1e-6 * FIXED_ONE) as u32 + samples as u32 + 2;
+        let span = u32::MAX - 2 * margin;
+        let inner = |v: i64| (v as u32).wrapping_sub(margin) < span;
+        let cell = |x: i64, y: i64| (y >> 32) as usize * w + (x >> 32) as usize;
+        if eps <= LOS_EPS {
+            // The bits (small enough for the first-level cache) where they hold for `eps`.
+            let bits = &grid.los_blocked;
+            for _ in 0..samples {
+                x += sx;
+                y += sy;
+                if inner(x) && inner(y) && {
+                    let i = cell(x, y);
+                    bits[i >> 6] >> (i & 63) & 1 != 0
+                } {
+                    return false;
+                }
+            }
+        } else {
+            for _ in 0..samples {
+                x += sx;
+                y += sy;
+                if inner(x) && inner(y) && grid.block_margin[cell(x, y)] as f64 > eps {
+                    return false;
+                }
             }
         }
     }

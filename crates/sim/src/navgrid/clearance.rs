@@ -96,6 +96,46 @@ pub(crate) fn segment_segment_distance(a: &Seg, b: &Seg) -> f64 {
     pd2(a[0], b).min(pd2(a[1], b)).min(pd2(b[0], a)).min(pd2(b[1], a)).sqrt()
 }
 
+/// A segment in its own frame (unit direction and normal), for bounding its distance to
+/// other segments cheaply ([`SegmentLine::clear_of`]).
+pub(crate) struct SegmentLine {
+    /// The segment (m).
+    pub seg: Seg,
+    /// Unit direction from its start to its end, and its length (m); zero for a segment
+    /// shorter than a nanometre (no bound).
+    dir: [f64; 2],
+    len: f64,
+}
+
+impl SegmentLine {
+    /// The segment from `a` to `b` (m).
+    pub fn new(a: [f64; 2], b: [f64; 2]) -> SegmentLine {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let dir = if l > 1e-9 { [d[0] / l, d[1] / l] } else { [0.0, 0.0] };
+        SegmentLine { seg: [a, b], dir, len: l }
+    }
+
+    /// Whether [`segment_segment_distance`] from this segment to `o` is at least `min` (m).
+    /// When `o` lies wholly on one side of the line, or wholly before its start or beyond its
+    /// end, farther than `min` (with a nanometre to spare for rounding), so does the segment:
+    /// no exact distance is needed.
+    #[inline]
+    pub fn clear_of(&self, o: &Seg, min: f64) -> bool {
+        let a = self.seg[0];
+        let u = self.dir;
+        let (p, q) = ([o[0][0] - a[0], o[0][1] - a[1]], [o[1][0] - a[0], o[1][1] - a[1]]);
+        // Across the line (normal `(-u1, u0)`), then along it.
+        let (s0, s1) = (u[0] * p[1] - u[1] * p[0], u[0] * q[1] - u[1] * q[0]);
+        let (t0, t1) = (u[0] * p[0] + u[1] * p[1], u[0] * q[0] + u[1] * q[1]);
+        let far = min + 1e-9;
+        if s0.min(s1) >= far || s0.max(s1) <= -far || t0.max(t1) <= -far || t0.min(t1) >= self.len + far {
+            return true;
+        }
+        segment_segment_distance(&self.seg, o) >= min
+    }
+}
+
 /// Closest point of segment `s` to `p`.
 pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
     let d = [s[1][0] - s[0][0], s[1][1] - s[0][1]];

@@ -15,7 +15,7 @@ pub(crate) mod raster;
 
 pub use floors::{detect_floors, Floor};
 pub use stairs::StoreyBounds;
-pub(crate) use clearance::closest_on_segment;
+pub(crate) use clearance::{closest_on_segment, SegmentLine};
 
 use crate::scene::Scene;
 use raster::GridSpec;
@@ -644,6 +644,30 @@ impl NavGrid {
             }
         }
         best
+    }
+
+    /// Whether segment `line` keeps at least `min` (m) from every obstacle segment nearest to
+    /// cell `i` and its eight neighbours (the segments of
+    /// [`NavGrid::nearest_segment_distance`], with the same answer as comparing its result
+    /// with `min`), if any has one; stops at the first that comes nearer.
+    pub(crate) fn nearest_segments_clear(&self, i: usize, line: &clearance::SegmentLine, min: f64) -> Option<bool> {
+        let (w, h) = (self.spec.w, self.spec.h);
+        let (c, r) = (i % w, i / w);
+        let mut last = u32::MAX;
+        for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
+                let k = self.nearest[rr * w + cc];
+                // Neighbours along a wall share a segment: skip the one just tested.
+                if k == u32::MAX || k == last {
+                    continue;
+                }
+                if !line.clear_of(&self.segments[k as usize], min) {
+                    return Some(false);
+                }
+                last = k;
+            }
+        }
+        (last != u32::MAX).then_some(true)
     }
 
     fn find_corners(&mut self) {
