@@ -183,12 +183,23 @@ pub(crate) fn segment_distance_where(
             (c1 >= 0.0 && r1 >= 0.0).then_some((c0, c1 as usize, r0, r1 as usize))
         })
         .collect();
+    // Each band's segments, in order (most reach one band or two).
+    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); spec.h.div_ceil(SEGMENT_BAND_ROWS)];
+    for (k, b) in boxes.iter().enumerate() {
+        if let Some((_, _, r0, r1)) = b.filter(|b| b.2 <= b.3) {
+            for list in &mut in_band[r0 / SEGMENT_BAND_ROWS..=r1 / SEGMENT_BAND_ROWS] {
+                list.push(k as u32);
+            }
+        }
+    }
     // Bands of rows in parallel, each taking the segments in order (the same nearest segment
     // per cell as one pass, any thread count).
     let band = SEGMENT_BAND_ROWS * spec.w;
     best.par_chunks_mut(band).zip(near.par_chunks_mut(band)).enumerate().for_each(|(b, (best, near))| {
         let (b0, b1) = (b * SEGMENT_BAND_ROWS, ((b + 1) * SEGMENT_BAND_ROWS).min(spec.h));
-        for (k, s) in segs.iter().enumerate() {
+        for &k in &in_band[b] {
+            let k = k as usize;
+            let s = &segs[k];
             let Some((c0, c1, r0, r1)) = boxes[k] else { continue };
             for r in r0.max(b0)..=r1.min(b1 - 1) {
                 let py = spec.y0 + (r as f64 + 0.5) * spec.res;
