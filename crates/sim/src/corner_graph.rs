@@ -21,7 +21,8 @@ use crate::geodesic::{segment_clear, LOS_EPS};
 use crate::navgrid::{closest_on_segment, NavGrid};
 use rayon::prelude::*;
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 use xhab_types::Point2;
 
 /// Largest cosine between a leg and a node's outward normal for the leg to be taut there,
@@ -346,8 +347,9 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Boundary cells where a shortest path may bend, in cell order: those whose nearest obstacle
-/// point lies within one cell of a segment's end (convex corners of the scene's geometry are
-/// segment ends; along a straight wall no path bends), those on the edge of the floor at a
+/// point lies within one cell of a convex vertex ([`ConvexVertices`]: convex corners of the
+/// scene's geometry are segment ends; along a straight wall no path bends, so not where the
+/// pieces of one wall meet), those on the edge of the floor at a
 /// reflex corner of the cells (a 2 x 2 block with exactly one cell off the region), and those
 /// in a passage at most three cells wide (off-region cells on both sides), where paths follow
 /// the cells.
@@ -363,16 +365,112 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
         })
     };
     let res = grid.resolution();
+    // Convex vertices near a boundary cell's nearest point are ends of the nearest segments
+    // of the cell or its eight neighbours (a wall's piece may end a centimetre short of the
+    // corner that another piece turns).
+    let around = |i: usize| {
+        let (c, r) = (i % w, i / w);
+        (r.saturating_sub(1)..=(r + 1).min(h - 1)).flat_map(move |y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).map(move |x| grid.nearest[y * w + x])).filter(|&k| k != u32::MAX)
+    };
+    let mut wanted = vec![false; grid.segments.len()];
+    for i in (0..w * h).filter(|&i| grid.corner[i] && !passage[i] && grid.nearest[i] != u32::MAX) {
+        for k in around(i) {
+            wanted[k as usize] = true;
+        }
+    }
+    let convex = ConvexVertices::new(&grid.segments, &wanted);
     let near_end = |i: usize| {
         let k = grid.nearest[i];
         if k == u32::MAX {
             return reflex_block(i);
         }
-        let s = &grid.segments[k as usize];
-        let q = closest_on_segment(grid.center(i), s);
-        (q[0] - s[0][0]).hypot(q[1] - s[0][1]) <= res || (q[0] - s[1][0]).hypot(q[1] - s[1][1]) <= res
+        let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
+        around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
     };
-    (0..w * h).filter(|&i| grid.corner[i] && (near_end(i) || passage[i])).collect()
+    (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && (passage[i] || near_end(i))).collect()
+}
+
+/// A vertex's cell on a 10 micrometre lattice (truncated, without a libm call): segment ends
+/// that meet share it.
+fn vertex_key(v: [f64; 2]) -> (i64, i64) {
+    const Q: f64 = 1e5;
+    ((v[0] * Q) as i64, (v[1] * Q) as i64)
+}
+
+/// Least turn of the boundary at a vertex for a path to bend there (rad): a vertex whose
+/// segments leave no gap wider than a half turn plus this is flat (pieces of one straight
+/// wall) or reflex, and no shortest path bends at it.
+const CONVEX_GAP: f64 = 1e-3;
+
+/// Which ends of some of a floor's obstacle segments are convex vertices: those where the
+/// directions of all the segments that end there leave a gap wider than a half turn (by
+/// [`CONVEX_GAP`]), free space a path can wrap around. A lone end is convex; segments shorter
+/// than the lattice's quantum have no direction and are left out.
+struct ConvexVertices {
+    /// Lattice key of each vertex asked about, and whether it is convex.
+    convex: HashMap<(i64, i64), bool, BuildHasherDefault<KeyHasher>>,
+}
+
+impl ConvexVertices {
+    /// The ends of the segments `wanted` marks, looked at among all of `segments`.
+    fn new(segments: &[[[f64; 2]; 2]], wanted: &[bool]) -> ConvexVertices {
+        let mut index: HashMap<(i64, i64), u32, BuildHasherDefault<KeyHasher>> = HashMap::default();
+        for (s, _) in segments.iter().zip(wanted).filter(|(_, &w)| w) {
+            for v in s {
+                let n = index.len() as u32;
+                index.entry(vertex_key(*v)).or_insert(n);
+            }
+        }
+        // Each vertex's directions (rad), gathered in parallel and sorted per vertex.
+        let index = &index;
+        let mut dirs: Vec<(u32, f64)> = segments
+            .par_chunks(4096)
+            .flat_map_iter(|chunk| {
+                chunk.iter().flat_map(|s| {
+                    let (ka, kb) = (vertex_key(s[0]), vertex_key(s[1]));
+                    let ends = if ka == kb { [None, None] } else { [Some((ka, s[0], s[1])), Some((kb, s[1], s[0]))] };
+                    ends.into_iter().flatten().filter_map(|(k, a, b)| index.get(&k).map(|&j| (j, (b[1] - a[1]).atan2(b[0] - a[0]))))
+                })
+            })
+            .collect();
+        dirs.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+        let mut flat = vec![false; index.len()];
+        for group in dirs.chunk_by(|x, y| x.0 == y.0) {
+            let (first, last) = (group[0].1, group[group.len() - 1].1);
+            let gap = group.windows(2).map(|w| w[1].1 - w[0].1).fold(first + std::f64::consts::TAU - last, f64::max);
+            flat[group[0].0 as usize] = gap <= std::f64::consts::PI + CONVEX_GAP;
+        }
+        ConvexVertices { convex: index.iter().map(|(&k, &j)| (k, !flat[j as usize])).collect() }
+    }
+
+    /// Whether `v` (m) is a convex vertex (true for a point not asked about: no pruning).
+    fn is_convex(&self, v: [f64; 2]) -> bool {
+        self.convex.get(&vertex_key(v)).copied().unwrap_or(true)
+    }
+}
+
+/// FxHash's multiply-rotate hash: fast for the lattice keys, and the same on every run.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
 }
 
 /// Angular step of the bend points placed on the arcs about the obstacles' vertices (degrees).
