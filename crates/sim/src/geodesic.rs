@@ -8,7 +8,7 @@
 //! `radius` from the obstacle. A query at any point `p` is then `D(anchor) + |anchor - p|`:
 //! O(1), with no grid-step error.
 
-use crate::navgrid::{NavGrid, SegmentLine};
+use crate::navgrid::{NavGrid, SeenSegments, SegmentLine};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use xhab_types::Point2;
@@ -241,7 +241,8 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let r = grid.params.radius;
     let sure = r + HALF_DIAGONAL * res;
     let line = SegmentLine::new(a, b);
-    let check = |i: usize| -> bool {
+    let mut seen = SeenSegments::new();
+    let mut check = |i: usize| -> bool {
         let cl = grid.clearance[i] as f64;
         if cl >= sure {
             return true;
@@ -249,7 +250,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
         if cl <= 0.0 {
             return false;
         }
-        match grid.nearest_segments_clear(i, &line, r - eps) {
+        match grid.nearest_segments_clear(i, &line, r - eps, &mut seen) {
             Some(clear) => clear,
             None => cl >= r - eps.max(0.25 * res),
         }

@@ -89,6 +89,28 @@ pub struct Island {
     pub radius: f64,
 }
 
+/// The last few obstacle segments found clear of one line of sight (a ring of 16).
+pub(crate) struct SeenSegments {
+    ids: [u32; 16],
+    next: usize,
+}
+
+impl SeenSegments {
+    /// None seen yet.
+    pub fn new() -> SeenSegments {
+        SeenSegments { ids: [u32::MAX; 16], next: 0 }
+    }
+
+    fn contains(&self, k: u32) -> bool {
+        self.ids.contains(&k)
+    }
+
+    fn insert(&mut self, k: u32) {
+        self.ids[self.next] = k;
+        self.next = (self.next + 1) % self.ids.len();
+    }
+}
+
 /// The navigable region of one floor.
 #[derive(Debug, Clone)]
 pub struct NavGrid {
@@ -649,25 +671,30 @@ impl NavGrid {
     /// Whether segment `line` keeps at least `min` (m) from every obstacle segment nearest to
     /// cell `i` and its eight neighbours (the segments of
     /// [`NavGrid::nearest_segment_distance`], with the same answer as comparing its result
-    /// with `min`), if any has one; stops at the first that comes nearer.
-    pub(crate) fn nearest_segments_clear(&self, i: usize, line: &clearance::SegmentLine, min: f64) -> Option<bool> {
+    /// with `min`), if any has one; stops at the first that comes nearer. `seen` holds
+    /// segments already found clear of this line (a walk's cells share most neighbours), and
+    /// takes those found here.
+    pub(crate) fn nearest_segments_clear(&self, i: usize, line: &clearance::SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
         let (w, h) = (self.spec.w, self.spec.h);
         let (c, r) = (i % w, i / w);
-        let mut last = u32::MAX;
+        let mut any = false;
         for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
             for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
                 let k = self.nearest[rr * w + cc];
-                // Neighbours along a wall share a segment: skip the one just tested.
-                if k == u32::MAX || k == last {
+                if k == u32::MAX {
+                    continue;
+                }
+                any = true;
+                if seen.contains(k) {
                     continue;
                 }
                 if !line.clear_of(&self.segments[k as usize], min) {
                     return Some(false);
                 }
-                last = k;
+                seen.insert(k);
             }
         }
-        (last != u32::MAX).then_some(true)
+        any.then_some(true)
     }
 
     fn find_corners(&mut self) {
