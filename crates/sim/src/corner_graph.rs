@@ -3,9 +3,10 @@
 //!
 //! A shortest path of the disc agent is straight except where it wraps around a convex corner
 //! of an obstacle, at exactly the agent radius from it. The graph's *nodes* are the boundary
-//! cells near such corners (see [`reflex_cells`]: segment ends, reflex corners of the floor's
-//! edge, narrow passages), at the anchors the grid already places on the region's boundary
-//! (the same bend points as [`GeodesicField`]'s, less those along straight walls).
+//! cells near such corners (see [`reflex_cells`]: convex vertices of the obstacle segments,
+//! reflex corners of the floor's edge), at the anchors the grid already places on the
+//! region's boundary (the same bend points as [`GeodesicField`]'s, less those along straight
+//! walls), and points on the arcs about the corners in narrow passages ([`arc_nodes`]).
 //! Two nodes are joined when they see each other ([`segment_clear`]) and the leg is *taut* at
 //! both ends: a path that bends at a node leaves it along the boundary's tangent, never
 //! straight away from the obstacle, so legs within [`TAUT_COS`] of a node's outward normal are
@@ -349,10 +350,10 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// Boundary cells where a shortest path may bend, in cell order: those whose nearest obstacle
 /// point lies within one cell of a convex vertex ([`ConvexVertices`]: convex corners of the
 /// scene's geometry are segment ends; along a straight wall no path bends, so not where the
-/// pieces of one wall meet), those on the edge of the floor at a
-/// reflex corner of the cells (a 2 x 2 block with exactly one cell off the region), and those
-/// in a passage at most three cells wide (off-region cells on both sides), where paths follow
-/// the cells.
+/// pieces of one wall meet), and those on the edge of the floor at a reflex corner of the
+/// cells (a 2 x 2 block with exactly one cell off the region). Narrow passages need no more:
+/// their bends are on the arcs ([`arc_nodes`]). On a storey with stairs: within a cell of any
+/// segment end, and every cell in a passage at most three cells wide.
 fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
     let (w, h) = grid.size();
     let (wi, hi) = (w as isize, h as isize);
@@ -365,6 +366,21 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
         })
     };
     let res = grid.resolution();
+    if grid.has_stairs() {
+        // A storey with stairs counts each segment only for the cells whose body band it
+        // reaches, so which segments meet at a vertex depends on the cell: there every segment
+        // end and every passage cell stays a bend point.
+        let near_any_end = |i: usize| {
+            let k = grid.nearest[i];
+            if k == u32::MAX {
+                return reflex_block(i);
+            }
+            let s = &grid.segments[k as usize];
+            let q = closest_on_segment(grid.center(i), s);
+            s.iter().any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res)
+        };
+        return (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && (passage[i] || near_any_end(i))).collect();
+    }
     // Convex vertices near a boundary cell's nearest point are ends of the nearest segments
     // of the cell or its eight neighbours (a wall's piece may end a centimetre short of the
     // corner that another piece turns).
@@ -373,7 +389,7 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
         (r.saturating_sub(1)..=(r + 1).min(h - 1)).flat_map(move |y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).map(move |x| grid.nearest[y * w + x])).filter(|&k| k != u32::MAX)
     };
     let mut wanted = vec![false; grid.segments.len()];
-    for i in (0..w * h).filter(|&i| grid.corner[i] && !passage[i] && grid.nearest[i] != u32::MAX) {
+    for i in (0..w * h).filter(|&i| grid.corner[i] && grid.nearest[i] != u32::MAX) {
         for k in around(i) {
             wanted[k as usize] = true;
         }
@@ -387,7 +403,7 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
         let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
         around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
     };
-    (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && (passage[i] || near_end(i))).collect()
+    (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && near_end(i)).collect()
 }
 
 /// A vertex's cell on a 10 micrometre lattice (truncated, without a libm call): segment ends
