@@ -64,7 +64,12 @@ impl CornerGraph {
     /// Builds the graph of `grid` (in parallel over nodes; the same graph for any thread count).
     pub fn new(grid: &NavGrid) -> CornerGraph {
         let passage = passage_cells(grid);
-        let cells = reflex_cells(grid, &passage);
+        let near_passage = arc_reach(grid, &passage);
+        // A storey with stairs counts each segment only for the cells whose body band it
+        // reaches, so which segments meet at a vertex depends on the cell: no vertex is called
+        // flat there.
+        let convex = (!grid.has_stairs()).then(|| ConvexVertices::for_grid(grid, &near_passage));
+        let cells = reflex_cells(grid, &passage, convex.as_ref());
         let mut g = CornerGraph {
             pos: cells.iter().map(|&i| grid.anchor[i]).collect(),
             normal: Vec::with_capacity(cells.len()),
@@ -81,7 +86,7 @@ impl CornerGraph {
             g.normal.push(n);
             g.taut.push(t);
         }
-        for (p, n, island) in arc_nodes(grid, &passage) {
+        for (p, n, island) in arc_nodes(grid, &passage, &near_passage, convex.as_ref()) {
             g.pos.push(p);
             g.normal.push(n);
             g.taut.push(TAUT_COS);
@@ -354,7 +359,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// cells (a 2 x 2 block with exactly one cell off the region). Narrow passages need no more:
 /// their bends are on the arcs ([`arc_nodes`]). On a storey with stairs: within a cell of any
 /// segment end, and every cell in a passage at most three cells wide.
-fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
+fn reflex_cells(grid: &NavGrid, passage: &[bool], convex: Option<&ConvexVertices>) -> Vec<usize> {
     let (w, h) = grid.size();
     let (wi, hi) = (w as isize, h as isize);
     let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
@@ -366,10 +371,8 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
         })
     };
     let res = grid.resolution();
-    if grid.has_stairs() {
-        // A storey with stairs counts each segment only for the cells whose body band it
-        // reaches, so which segments meet at a vertex depends on the cell: there every segment
-        // end and every passage cell stays a bend point.
+    let Some(convex) = convex else {
+        // On a storey with stairs every segment end and every passage cell stays a bend point.
         let near_any_end = |i: usize| {
             let k = grid.nearest[i];
             if k == u32::MAX {
@@ -380,30 +383,25 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool]) -> Vec<usize> {
             s.iter().any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res)
         };
         return (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && (passage[i] || near_any_end(i))).collect();
-    }
-    // Convex vertices near a boundary cell's nearest point are ends of the nearest segments
-    // of the cell or its eight neighbours (a wall's piece may end a centimetre short of the
-    // corner that another piece turns).
-    let around = |i: usize| {
-        let (c, r) = (i % w, i / w);
-        (r.saturating_sub(1)..=(r + 1).min(h - 1)).flat_map(move |y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).map(move |x| grid.nearest[y * w + x])).filter(|&k| k != u32::MAX)
     };
-    let mut wanted = vec![false; grid.segments.len()];
-    for i in (0..w * h).filter(|&i| grid.corner[i] && grid.nearest[i] != u32::MAX) {
-        for k in around(i) {
-            wanted[k as usize] = true;
-        }
-    }
-    let convex = ConvexVertices::new(&grid.segments, &wanted);
     let near_end = |i: usize| {
         let k = grid.nearest[i];
         if k == u32::MAX {
             return reflex_block(i);
         }
         let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
-        around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
+        around(grid, i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
     };
     (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && near_end(i)).collect()
+}
+
+/// The nearest segments of cell `i` and its eight neighbours. Convex vertices near a boundary
+/// cell's nearest point are ends of these (a wall's piece may end a centimetre short of the
+/// corner that another piece turns).
+fn around(grid: &NavGrid, i: usize) -> impl Iterator<Item = u32> + '_ {
+    let (w, h) = grid.size();
+    let (c, r) = (i % w, i / w);
+    (r.saturating_sub(1)..=(r + 1).min(h - 1)).flat_map(move |y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).map(move |x| grid.nearest[y * w + x])).filter(|&k| k != u32::MAX)
 }
 
 /// A vertex's cell on a 10 micrometre lattice (truncated, without a libm call): segment ends
@@ -428,6 +426,25 @@ struct ConvexVertices {
 }
 
 impl ConvexVertices {
+    /// The vertices a floor's bend points ask about: the ends of the nearest segments around
+    /// each boundary cell ([`reflex_cells`]) and the vertices whose arcs may hold bend points
+    /// (`near_passage`, [`arc_nodes`]).
+    fn for_grid(grid: &NavGrid, near_passage: &[bool]) -> ConvexVertices {
+        let (w, h) = grid.size();
+        let mut wanted = vec![false; grid.segments.len()];
+        for i in (0..w * h).filter(|&i| grid.corner[i] && grid.nearest[i] != u32::MAX) {
+            for k in around(grid, i) {
+                wanted[k as usize] = true;
+            }
+        }
+        for (k, s) in grid.segments.iter().enumerate() {
+            if s.iter().any(|&v| arc_vertex(grid, near_passage, v)) {
+                wanted[k] = true;
+            }
+        }
+        ConvexVertices::new(&grid.segments, &wanted)
+    }
+
     /// The ends of the segments `wanted` marks, looked at among all of `segments`.
     fn new(segments: &[[[f64; 2]; 2]], wanted: &[bool]) -> ConvexVertices {
         let mut index: HashMap<(i64, i64), u32, BuildHasherDefault<KeyHasher>> = HashMap::default();
@@ -500,22 +517,18 @@ const ARC_STEP_DEG: f64 = 30.0;
 /// under two cells wide they have the other side's obstacle nearest, so the corner's arc got
 /// no anchor and paths through the passage went the long way round (found by the property
 /// tests). Elsewhere the boundary cells' anchors cover the arcs.
-fn arc_nodes(grid: &NavGrid, passage: &[bool]) -> Vec<([f64; 2], [f64; 2], u32)> {
+fn arc_nodes(grid: &NavGrid, passage: &[bool], near_passage: &[bool], convex: Option<&ConvexVertices>) -> Vec<([f64; 2], [f64; 2], u32)> {
     const Q: f64 = 1e5;
-    let r = grid.params.radius;
     let step = ARC_STEP_DEG.to_radians();
-    let big = r / (step / 2.0).cos() + 1e-6;
+    let big = arc_radius(grid);
     let (w, h) = grid.size();
-    // Only vertices near a passage can have an arc point kept: one whose cell is within a
-    // cell of a passage cell, so within that and the arc's radius (in cells, rounded up, and
-    // one more) of the vertex's own cell.
-    let near = dilate(passage, w, h, (big / grid.resolution()).ceil() as usize + 2);
-    let near_vertex = |v: [f64; 2]| grid.cell_of(Point2::new(v[0], v[1])).is_none_or(|i| near[i]);
+    // A flat or reflex vertex has no arc a path wraps around.
     let mut verts: Vec<[i64; 2]> = grid
         .segments
         .iter()
-        .flat_map(|s| s.iter().map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64]))
-        .filter(|v| near_vertex([v[0] as f64 / Q, v[1] as f64 / Q]))
+        .flat_map(|s| s.iter().copied())
+        .filter(|&v| arc_vertex(grid, near_passage, v) && convex.is_none_or(|c| c.is_convex(v)))
+        .map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64])
         .collect();
     verts.sort_unstable();
     verts.dedup();
@@ -544,6 +557,25 @@ fn arc_nodes(grid: &NavGrid, passage: &[bool]) -> Vec<([f64; 2], [f64; 2], u32)>
             })
         })
         .collect()
+}
+
+/// Radius of the circles [`arc_nodes`] places bend points on (m): just wide enough that the
+/// chord between two neighbours keeps the agent radius.
+fn arc_radius(grid: &NavGrid) -> f64 {
+    grid.params.radius / (ARC_STEP_DEG.to_radians() / 2.0).cos() + 1e-6
+}
+
+/// Per cell, whether a vertex there can have an arc point kept ([`arc_nodes`]): within a cell
+/// of a passage cell, so within that and the arc's radius (in cells, rounded up, and one
+/// more) of the vertex's own cell.
+fn arc_reach(grid: &NavGrid, passage: &[bool]) -> Vec<bool> {
+    let (w, h) = grid.size();
+    dilate(passage, w, h, (arc_radius(grid) / grid.resolution()).ceil() as usize + 2)
+}
+
+/// Whether vertex `v` (m) may have arc points ([`arc_reach`]; a vertex off the grid may).
+fn arc_vertex(grid: &NavGrid, near_passage: &[bool], v: [f64; 2]) -> bool {
+    grid.cell_of(Point2::new(v[0], v[1])).is_none_or(|i| near_passage[i])
 }
 
 /// `mask` grown by `reach` cells in every direction (a square of side `2 reach + 1`).
