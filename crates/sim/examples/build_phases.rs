@@ -2,23 +2,33 @@
 //! navigation grid and the corner graph (`xhab perf`'s `map_build_s` is their sum, best of
 //! three; this splits it).
 //!
-//! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]`
-//! (default: the two shared house scenes, 5 runs). Prints each phase's best time over the
-//! runs (ms), with the grid's size and the graph's nodes and legs.
+//! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
+//! [--pairs M]` (default: the two shared house scenes, 5 runs, no pairs). Prints each phase's
+//! best time over the runs (ms), with the grid's size and the graph's nodes and legs; with
+//! `--pairs`, also the rate of M cold pair queries between seeded random navigable points
+//! (this thread) and a hash of their distances' bits, to tell whether a change to the graph
+//! changed any answer.
 
+use rand::SeedableRng;
 use std::path::Path;
 use std::time::Instant;
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{load, LoadOptions};
 use xhab_sim::world::World;
+use xhab_types::Point2;
 
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let mut runs = 5;
-    if let Some(i) = args.iter().position(|a| a == "--runs") {
-        runs = args[i + 1].parse().expect("--runs N");
-        args.drain(i..i + 2);
-    }
+    let mut flag = |name: &str, default: usize| match args.iter().position(|a| a == name) {
+        Some(i) => {
+            let v = args[i + 1].parse().unwrap_or_else(|_| panic!("{name} N"));
+            args.drain(i..i + 2);
+            v
+        }
+        None => default,
+    };
+    let runs = flag("--runs", 5);
+    let pairs = flag("--pairs", 0);
     if args.is_empty() {
         args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("/work/shared/scenes/{s}")).collect();
     }
@@ -42,5 +52,22 @@ fn main() {
             sizes = format!("grid {:?} cells, graph {} nodes / {} legs", grid.size(), graph.len(), graph.leg_count());
         }
         println!("{path}: floors {:.1} ms, grid {:.1} ms, corner graph {:.1} ms ({sizes})", best[0] * 1e3, best[1] * 1e3, best[2] * 1e3);
+        if pairs > 0 {
+            let world = World::new(scene.clone(), AgentParams::default());
+            let grid = world.grid(world.default_floor().expect("a floor")).expect("a grid");
+            let graph = grid.corner_graph();
+            let cells = grid.cells_on_islands(0.0);
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+            let ends: Vec<(Point2, Point2)> = (0..pairs)
+                .map(|_| {
+                    let a = grid.sample_navigable_point(&cells, &mut rng).expect("a point");
+                    let b = grid.sample_navigable_point(&cells, &mut rng).expect("a point");
+                    (Point2::new(a.x, a.y), Point2::new(b.x, b.y))
+                })
+                .collect();
+            let t = Instant::now();
+            let hash = ends.iter().fold(0u64, |h, &(a, b)| h.wrapping_mul(1_000_003).wrapping_add(graph.distance(&grid, a, b).to_bits()));
+            println!("  {pairs} pair queries: {:.0} per s, distance hash {hash:016x}", pairs as f64 / t.elapsed().as_secs_f64());
+        }
     }
 }
