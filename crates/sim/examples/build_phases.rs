@@ -38,8 +38,9 @@ fn main() {
         let mut best = [f64::INFINITY; 3];
         let mut sizes = String::new();
         for _ in 0..runs {
+            let copy = scene.clone();
             let t = Instant::now();
-            let world = World::new(scene.clone(), AgentParams::default());
+            let world = World::new(copy, AgentParams::default());
             let floor = world.default_floor().expect("a floor");
             let t1 = t.elapsed().as_secs_f64();
             let grid = world.grid(floor).expect("a grid");
