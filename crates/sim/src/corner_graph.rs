@@ -645,3 +645,39 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
         ([0.0, 0.0], 1.0)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn convex_vertices_are_where_the_segments_leave_more_than_a_half_turn_free() {
+        let segs = [
+            // A wall in two pieces meeting at (1, 0): flat.
+            [[0.0, 0.0], [1.0, 0.0]],
+            [[1.0, 0.0], [2.0, 0.0]],
+            // A corner at (5, 0): free through 270 degrees; a zero-length sliver there has no
+            // direction and changes nothing.
+            [[4.0, 0.0], [5.0, 0.0]],
+            [[5.0, 0.0], [5.0, 1.0]],
+            [[5.0, 0.0], [5.0, 0.0]],
+            // Three segments a third of a turn apart at (8, 0): no gap over a half turn.
+            [[8.0, 0.0], [9.0, 0.0]],
+            [[8.0, 0.0], [7.5, 0.866]],
+            [[8.0, 0.0], [7.5, -0.866]],
+            // A wall's end at (3, 3), meeting nothing.
+            [[3.0, 3.0], [4.0, 3.0]],
+        ];
+        let c = ConvexVertices::new(&segs, &[true; 9]);
+        assert!(!c.is_convex([1.0, 0.0]), "pieces of one wall");
+        assert!(c.is_convex([5.0, 0.0]), "a corner");
+        assert!(!c.is_convex([8.0, 0.0]), "surrounded");
+        assert!(c.is_convex([3.0, 3.0]), "a lone end");
+        // A vertex nobody asked about is not pruned.
+        assert!(c.is_convex([20.0, 20.0]));
+        // Only the marked segments' ends are asked about; all segments count for them.
+        let c = ConvexVertices::new(&segs, &[true, false, false, false, false, false, false, false, false]);
+        assert!(!c.is_convex([1.0, 0.0]));
+        assert!(c.is_convex([8.0, 0.0]), "not asked about");
+    }
+}
