@@ -19,11 +19,11 @@
 //! [`GeodesicField`]: crate::geodesic::GeodesicField
 
 use crate::geodesic::{segment_clear, LOS_EPS};
+use crate::navgrid::convex_vertices::ConvexVertices;
 use crate::navgrid::{closest_on_segment, NavGrid};
 use rayon::prelude::*;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
-use std::hash::{BuildHasherDefault, Hasher};
+use std::collections::BinaryHeap;
 use xhab_types::Point2;
 
 /// Largest cosine between a leg and a node's outward normal for the leg to be taut there,
@@ -68,7 +68,7 @@ impl CornerGraph {
         // A storey with stairs counts each segment only for the cells whose body band it
         // reaches, so which segments meet at a vertex depends on the cell: no vertex is called
         // flat there.
-        let convex = (!grid.has_stairs()).then(|| ConvexVertices::for_grid(grid, &near_passage));
+        let convex = (!grid.has_stairs()).then(|| convex_vertices(grid, &near_passage));
         let cells = reflex_cells(grid, &passage, convex.as_ref());
         let mut g = CornerGraph {
             pos: cells.iter().map(|&i| grid.anchor[i]).collect(),
@@ -390,120 +390,28 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool], convex: Option<&ConvexVertices
             return reflex_block(i);
         }
         let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
-        around(grid, i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
+        grid.nearest_around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
     };
     (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && near_end(i)).collect()
 }
 
-/// The nearest segments of cell `i` and its eight neighbours. Convex vertices near a boundary
-/// cell's nearest point are ends of these (a wall's piece may end a centimetre short of the
-/// corner that another piece turns).
-fn around(grid: &NavGrid, i: usize) -> impl Iterator<Item = u32> + '_ {
+/// Which of `grid`'s obstacle vertices are convex, for those the bend points ask about: the
+/// ends of the nearest segments around each boundary cell ([`reflex_cells`]) and the vertices
+/// whose arcs may hold bend points (`near_passage`, [`arc_nodes`]).
+fn convex_vertices(grid: &NavGrid, near_passage: &[bool]) -> ConvexVertices {
     let (w, h) = grid.size();
-    let (c, r) = (i % w, i / w);
-    (r.saturating_sub(1)..=(r + 1).min(h - 1)).flat_map(move |y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).map(move |x| grid.nearest[y * w + x])).filter(|&k| k != u32::MAX)
-}
-
-/// A vertex's cell on a 10 micrometre lattice (truncated, without a libm call): segment ends
-/// that meet share it.
-fn vertex_key(v: [f64; 2]) -> (i64, i64) {
-    const Q: f64 = 1e5;
-    ((v[0] * Q) as i64, (v[1] * Q) as i64)
-}
-
-/// Least turn of the boundary at a vertex for a path to bend there (rad): a vertex whose
-/// segments leave no gap wider than a half turn plus this is flat (pieces of one straight
-/// wall) or reflex, and no shortest path bends at it.
-const CONVEX_GAP: f64 = 1e-3;
-
-/// Which ends of some of a floor's obstacle segments are convex vertices: those where the
-/// directions of all the segments that end there leave a gap wider than a half turn (by
-/// [`CONVEX_GAP`]), free space a path can wrap around. A lone end is convex; segments shorter
-/// than the lattice's quantum have no direction and are left out.
-struct ConvexVertices {
-    /// Lattice key of each vertex asked about, and whether it is convex.
-    convex: HashMap<(i64, i64), bool, BuildHasherDefault<KeyHasher>>,
-}
-
-impl ConvexVertices {
-    /// The vertices a floor's bend points ask about: the ends of the nearest segments around
-    /// each boundary cell ([`reflex_cells`]) and the vertices whose arcs may hold bend points
-    /// (`near_passage`, [`arc_nodes`]).
-    fn for_grid(grid: &NavGrid, near_passage: &[bool]) -> ConvexVertices {
-        let (w, h) = grid.size();
-        let mut wanted = vec![false; grid.segments.len()];
-        for i in (0..w * h).filter(|&i| grid.corner[i] && grid.nearest[i] != u32::MAX) {
-            for k in around(grid, i) {
-                wanted[k as usize] = true;
-            }
-        }
-        for (k, s) in grid.segments.iter().enumerate() {
-            if s.iter().any(|&v| arc_vertex(grid, near_passage, v)) {
-                wanted[k] = true;
-            }
-        }
-        ConvexVertices::new(&grid.segments, &wanted)
-    }
-
-    /// The ends of the segments `wanted` marks, looked at among all of `segments`.
-    fn new(segments: &[[[f64; 2]; 2]], wanted: &[bool]) -> ConvexVertices {
-        let mut index: HashMap<(i64, i64), u32, BuildHasherDefault<KeyHasher>> = HashMap::default();
-        for (s, _) in segments.iter().zip(wanted).filter(|(_, &w)| w) {
-            for v in s {
-                let n = index.len() as u32;
-                index.entry(vertex_key(*v)).or_insert(n);
-            }
-        }
-        // Each vertex's directions (rad), gathered in parallel and sorted per vertex.
-        let index = &index;
-        let mut dirs: Vec<(u32, f64)> = segments
-            .par_chunks(4096)
-            .flat_map_iter(|chunk| {
-                chunk.iter().flat_map(|s| {
-                    let (ka, kb) = (vertex_key(s[0]), vertex_key(s[1]));
-                    let ends = if ka == kb { [None, None] } else { [Some((ka, s[0], s[1])), Some((kb, s[1], s[0]))] };
-                    ends.into_iter().flatten().filter_map(|(k, a, b)| index.get(&k).map(|&j| (j, (b[1] - a[1]).atan2(b[0] - a[0]))))
-                })
-            })
-            .collect();
-        dirs.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        let mut flat = vec![false; index.len()];
-        for group in dirs.chunk_by(|x, y| x.0 == y.0) {
-            let (first, last) = (group[0].1, group[group.len() - 1].1);
-            let gap = group.windows(2).map(|w| w[1].1 - w[0].1).fold(first + std::f64::consts::TAU - last, f64::max);
-            flat[group[0].0 as usize] = gap <= std::f64::consts::PI + CONVEX_GAP;
-        }
-        ConvexVertices { convex: index.iter().map(|(&k, &j)| (k, !flat[j as usize])).collect() }
-    }
-
-    /// Whether `v` (m) is a convex vertex (true for a point not asked about: no pruning).
-    fn is_convex(&self, v: [f64; 2]) -> bool {
-        self.convex.get(&vertex_key(v)).copied().unwrap_or(true)
-    }
-}
-
-/// FxHash's multiply-rotate hash: fast for the lattice keys, and the same on every run.
-#[derive(Default)]
-struct KeyHasher(u64);
-
-impl Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
+    let mut wanted = vec![false; grid.segments.len()];
+    for i in (0..w * h).filter(|&i| grid.corner[i] && grid.nearest[i] != u32::MAX) {
+        for k in grid.nearest_around(i) {
+            wanted[k as usize] = true;
         }
     }
-
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    for (k, s) in grid.segments.iter().enumerate() {
+        if s.iter().any(|&v| arc_vertex(grid, near_passage, v)) {
+            wanted[k] = true;
+        }
     }
-
-    fn write_i64(&mut self, x: i64) {
-        self.write_u64(x as u64);
-    }
+    ConvexVertices::new(&grid.segments, &wanted)
 }
 
 /// Angular step of the bend points placed on the arcs about the obstacles' vertices (degrees).
@@ -643,41 +551,5 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
         ([s[0] / l, s[1] / l], TAUT_COS_COARSE)
     } else {
         ([0.0, 0.0], 1.0)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn convex_vertices_are_where_the_segments_leave_more_than_a_half_turn_free() {
-        let segs = [
-            // A wall in two pieces meeting at (1, 0): flat.
-            [[0.0, 0.0], [1.0, 0.0]],
-            [[1.0, 0.0], [2.0, 0.0]],
-            // A corner at (5, 0): free through 270 degrees; a zero-length sliver there has no
-            // direction and changes nothing.
-            [[4.0, 0.0], [5.0, 0.0]],
-            [[5.0, 0.0], [5.0, 1.0]],
-            [[5.0, 0.0], [5.0, 0.0]],
-            // Three segments a third of a turn apart at (8, 0): no gap over a half turn.
-            [[8.0, 0.0], [9.0, 0.0]],
-            [[8.0, 0.0], [7.5, 0.866]],
-            [[8.0, 0.0], [7.5, -0.866]],
-            // A wall's end at (3, 3), meeting nothing.
-            [[3.0, 3.0], [4.0, 3.0]],
-        ];
-        let c = ConvexVertices::new(&segs, &[true; 9]);
-        assert!(!c.is_convex([1.0, 0.0]), "pieces of one wall");
-        assert!(c.is_convex([5.0, 0.0]), "a corner");
-        assert!(!c.is_convex([8.0, 0.0]), "surrounded");
-        assert!(c.is_convex([3.0, 3.0]), "a lone end");
-        // A vertex nobody asked about is not pruned.
-        assert!(c.is_convex([20.0, 20.0]));
-        // Only the marked segments' ends are asked about; all segments count for them.
-        let c = ConvexVertices::new(&segs, &[true, false, false, false, false, false, false, false, false]);
-        assert!(!c.is_convex([1.0, 0.0]));
-        assert!(c.is_convex([8.0, 0.0]), "not asked about");
     }
 }

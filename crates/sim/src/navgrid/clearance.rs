@@ -136,6 +136,31 @@ impl SegmentLine {
     }
 }
 
+/// The last few obstacle segments found clear of one [`SegmentLine`] (a ring of 16), so that
+/// the cells of one line-of-sight walk, which share most neighbours, test each once.
+pub(crate) struct SeenSegments {
+    ids: [u32; 16],
+    next: usize,
+}
+
+impl SeenSegments {
+    /// None seen yet.
+    pub fn new() -> SeenSegments {
+        SeenSegments { ids: [u32::MAX; 16], next: 0 }
+    }
+
+    /// Whether segment `k` is among the last 16 found clear.
+    pub fn contains(&self, k: u32) -> bool {
+        self.ids.contains(&k)
+    }
+
+    /// Remembers segment `k` as clear (forgetting the oldest).
+    pub fn insert(&mut self, k: u32) {
+        self.ids[self.next] = k;
+        self.next = (self.next + 1) % self.ids.len();
+    }
+}
+
 /// Closest point of segment `s` to `p`.
 pub(crate) fn closest_on_segment(p: [f64; 2], s: &Seg) -> [f64; 2] {
     let d = [s[1][0] - s[0][0], s[1][1] - s[0][1]];
