@@ -357,8 +357,8 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// scene's geometry are segment ends; along a straight wall no path bends, so not where the
 /// pieces of one wall meet), and those on the edge of the floor at a reflex corner of the
 /// cells (a 2 x 2 block with exactly one cell off the region). Narrow passages need no more:
-/// their bends are on the arcs ([`arc_nodes`]). On a storey with stairs: within a cell of any
-/// segment end, and every cell in a passage at most three cells wide.
+/// their bends are on the arcs ([`arc_nodes`]). On a storey with stairs (no `convex`): within
+/// a cell of any vertex, and every cell in a passage at most three cells wide.
 fn reflex_cells(grid: &NavGrid, passage: &[bool], convex: Option<&ConvexVertices>) -> Vec<usize> {
     let (w, h) = grid.size();
     let (wi, hi) = (w as isize, h as isize);
@@ -371,28 +371,17 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool], convex: Option<&ConvexVertices
         })
     };
     let res = grid.resolution();
-    let Some(convex) = convex else {
-        // On a storey with stairs every segment end and every passage cell stays a bend point.
-        let near_any_end = |i: usize| {
-            let k = grid.nearest[i];
-            if k == u32::MAX {
-                return reflex_block(i);
-            }
-            let s = &grid.segments[k as usize];
-            let q = closest_on_segment(grid.center(i), s);
-            s.iter().any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res)
-        };
-        return (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && (passage[i] || near_any_end(i))).collect();
-    };
+    // Without convexity (a storey with stairs) every vertex may be a bend, and so may every
+    // passage cell.
     let near_end = |i: usize| {
         let k = grid.nearest[i];
         if k == u32::MAX {
             return reflex_block(i);
         }
         let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
-        grid.nearest_around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_convex(v))
+        grid.nearest_around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_none_or(|c| c.is_convex(v)))
     };
-    (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && near_end(i)).collect()
+    (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && ((convex.is_none() && passage[i]) || near_end(i))).collect()
 }
 
 /// Which of `grid`'s obstacle vertices are convex, for those the bend points ask about: the
