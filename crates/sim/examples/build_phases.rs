@@ -3,7 +3,8 @@
 //! three; this splits it).
 //!
 //! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
-//! [--pairs M]` (default: the two shared house scenes, 5 runs, no pairs). Prints each phase's
+//! [--pairs M]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
+//! `../shared`, 5 runs, no pairs). Prints each phase's
 //! best time over the runs (ms), with the grid's size and the graph's nodes and legs; with
 //! `--pairs`, also the rate of M cold pair queries between seeded random navigable points
 //! (this thread) and a hash of their distances' bits, to tell whether a change to the graph
@@ -21,7 +22,10 @@ fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let mut flag = |name: &str, default: usize| match args.iter().position(|a| a == name) {
         Some(i) => {
-            let v = args[i + 1].parse().unwrap_or_else(|_| panic!("{name} N"));
+            let Some(v) = args.get(i + 1).and_then(|v| v.parse().ok()) else {
+                eprintln!("build_phases: {name} wants a whole number");
+                std::process::exit(2);
+            };
             args.drain(i..i + 2);
             v
         }
@@ -30,11 +34,19 @@ fn main() {
     let runs = flag("--runs", 5);
     let pairs = flag("--pairs", 0);
     if args.is_empty() {
-        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("/work/shared/scenes/{s}")).collect();
+        // The shared data, as the tests find it.
+        let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("{data}/scenes/{s}")).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {
-        let scene = load(Path::new(path), &LoadOptions::default()).expect("scene");
+        let scene = match load(Path::new(path), &LoadOptions::default()) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("build_phases: {e}");
+                std::process::exit(1);
+            }
+        };
         let mut best = [f64::INFINITY; 3];
         let mut sizes = String::new();
         for _ in 0..runs {
