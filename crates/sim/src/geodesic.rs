@@ -240,22 +240,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let o = grid.origin();
     let r = grid.params.radius;
     let sure = r + HALF_DIAGONAL * res;
-    let line = SegmentLine::new(a, b);
-    let mut seen = SeenSegments::new();
-    let mut check = |i: usize| -> bool {
-        let cl = grid.clearance[i] as f64;
-        if cl >= sure {
-            return true;
-        }
-        if cl <= 0.0 {
-            return false;
-        }
-        match grid.nearest_segments_clear(i, &line, r - eps, &mut seen) {
-            Some(clear) => clear,
-            None => cl >= r - eps.max(0.25 * res),
-        }
-    };
-    // Amanatides-Woo traversal of the cells the segment crosses.
+    // The end points in cells.
     let fx0 = (a[0] - o.x) / res;
     let fy0 = (a[1] - o.y) / res;
     let fx1 = (b[0] - o.x) / res;
@@ -302,6 +287,23 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
             }
         }
     }
+    // The walk (Amanatides-Woo traversal of the cells the segment crosses), for segments the
+    // samples did not settle; only it needs the segment's own frame.
+    let line = SegmentLine::new(a, b);
+    let mut seen = SeenSegments::new();
+    let mut check = |i: usize| -> bool {
+        let cl = grid.clearance[i] as f64;
+        if cl >= sure {
+            return true;
+        }
+        if cl <= 0.0 {
+            return false;
+        }
+        match grid.nearest_segments_clear(i, &line, r - eps, &mut seen) {
+            Some(clear) => clear,
+            None => cl >= r - eps.max(0.25 * res),
+        }
+    };
     let (mut x, mut y) = (fx0.floor() as i64, fy0.floor() as i64);
     let (x1, y1) = (fx1.floor() as i64, fy1.floor() as i64);
     let (dx, dy) = (fx1 - fx0, fy1 - fy0);
