@@ -6,6 +6,7 @@
 //! the floor. Distances to geometry are exact (see [`clearance`]), so the region's boundary is
 //! not quantised to the grid. Navigable cells form islands (4-connected components).
 
+mod band_edges;
 mod clearance;
 pub(crate) mod convex_vertices;
 mod floors;
@@ -196,10 +197,10 @@ impl NavGrid {
         let chunks = scene.triangle_chunks(GATHER_CHUNK);
         // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
         type Kept = (u32, u32, bool, bool, u32, u32);
-        let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>)> = chunks
+        let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>, Vec<i8>)> = chunks
             .par_iter()
             .map(|(m, range)| {
-                let (mut kept, mut segs) = (Vec::new(), Vec::new());
+                let (mut kept, mut segs, mut sides) = (Vec::new(), Vec::new(), Vec::new());
                 let (mut poly, mut tmp) = (Vec::new(), Vec::new());
                 for ti in range.clone() {
                     let t = scene.meshes[*m].triangle(ti).map(|p| p.map(|v| v as f64));
@@ -213,7 +214,7 @@ impl NavGrid {
                         continue;
                     }
                     if in_band {
-                        clearance::band_segments_with(&t, band_lo, band_hi, &mut poly, &mut tmp, &mut segs);
+                        band_edges::band_edges_with(&t, band_lo, band_hi, &mut poly, &mut tmp, &mut segs, &mut sides);
                     }
                     let (ymin, ymax) = (t[0][1].min(t[1][1]).min(t[2][1]), t[0][1].max(t[1][1]).max(t[2][1]));
                     let r0 = ((ymin - y0) / res).floor();
@@ -224,14 +225,16 @@ impl NavGrid {
                     let (r0, r1) = (r0.max(0.0) as u32, (r1 as usize).min(h - 1) as u32);
                     kept.push((*m as u32, ti as u32, walkable, raster::normal_z_sign(&t) > 0.0, r0, r1));
                 }
-                (kept, segs)
+                (kept, segs, sides)
             })
             .collect();
         segs.reserve(gathered.iter().map(|g| g.1.len()).sum());
+        let mut sides: Vec<i8> = Vec::with_capacity(segs.capacity());
         let mut tris: Vec<Kept> = Vec::with_capacity(gathered.iter().map(|g| g.0.len()).sum());
         let mut in_bands: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(RASTER_BAND_ROWS)];
-        for (kept, chunk_segs) in gathered {
+        for (kept, chunk_segs, chunk_sides) in gathered {
             segs.extend(chunk_segs);
+            sides.extend(chunk_sides);
             for t in kept {
                 let k = tris.len() as u32;
                 tris.push(t);
@@ -278,7 +281,7 @@ impl NavGrid {
             (banded.clear, banded.nearest, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), banded.drops)
         } else {
             fill_enclosed(&mut occupied, &ground, &roof, &spec);
-            clearance::dedup_segments(&mut segs);
+            segs = band_edges::boundary_edges(&segs, &sides);
             // Cells off the region whose eight neighbours are off it too read no distance
             // and no nearest segment (their clearance is 0, and no test looks further).
             let off = |i: usize| occupied[i] || ground[i].is_nan();

@@ -2,6 +2,7 @@
 //! ground (a tread's, the floor's), not on the floor's height, and a drop of more than a climb
 //! between neighbouring cells is an edge for the cells above it.
 
+use super::band_edges;
 use super::clearance::{self, Seg};
 use super::raster::{self, GridSpec};
 use super::AgentParams;
@@ -22,7 +23,7 @@ pub(super) struct Banded {
 /// Occupancy (into `occupied`, with closed solids filled by the roofs in `roof`), obstacle
 /// segments and their distances for the storey at `floor_z` (m) whose cells stand on `ground`
 /// (m, NaN where none; such cells get the floor's band). Sloped faces are cut into
-/// [`clearance::SLICE`] slices so a cell sees only the part within its own band (to a slice).
+/// [`band_edges::SLICE`] slices so a cell sees only the part within its own band (to a slice).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn clearance(
     scene: &Scene,
@@ -62,7 +63,7 @@ pub(super) fn clearance(
             }
         });
         if zhi > wide_lo && zlo < wide_hi {
-            clearance::band_segments_sliced(&t, wide_lo, wide_hi, &mut banded);
+            band_edges::band_segments_sliced(&t, wide_lo, wide_hi, &mut banded);
         }
     }
     super::fill_enclosed(occupied, ground, roof, spec);
