@@ -107,13 +107,15 @@ impl CornerGraph {
                 let mut m = 0;
                 for b in a + 1..n {
                     let (dx, dy) = (xs[b] - xa, ys[b] - ya);
-                    let l = (dx * dx + dy * dy).sqrt();
-                    let (ux, uy) = (dx / l, dy / l);
-                    // `is_taut` at both ends, in its arithmetic.
-                    let taut_a = ux * nxa + uy * nya <= ta;
-                    let taut_b = -ux * nx[b] + -uy * ny[b] <= g.taut[b];
+                    let l2 = dx * dx + dy * dy;
+                    // `is_taut` at both ends without the division: `d . n <= taut |d|`.
+                    let (da, db) = (dx * nxa + dy * nya, -dx * nx[b] - dy * ny[b]);
+                    let tb = g.taut[b];
+                    // (every node's taut cosine is positive)
+                    let taut_a = (da <= 0.0) | (da * da <= ta * ta * l2);
+                    let taut_b = (db <= 0.0) | (db * db <= tb * tb * l2);
                     cand[m] = b as u32;
-                    m += (g.island[b] == ia && l >= 1e-9 && taut_a && taut_b) as usize;
+                    m += (g.island[b] == ia && l2 >= 1e-18 && taut_a && taut_b) as usize;
                 }
                 let pa = g.pos[a];
                 let mut out = Vec::new();
