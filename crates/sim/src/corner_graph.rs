@@ -381,7 +381,7 @@ fn reflex_cells(grid: &NavGrid, passage: &[bool], convex: Option<&ConvexVertices
             return reflex_block(i);
         }
         let q = closest_on_segment(grid.center(i), &grid.segments[k as usize]);
-        grid.nearest_around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).hypot(q[1] - v[1]) <= res && convex.is_none_or(|c| c.is_convex(v)))
+        grid.nearest_around(i).flat_map(|k| grid.segments[k as usize]).any(|v| (q[0] - v[0]).powi(2) + (q[1] - v[1]).powi(2) <= res * res && convex.is_none_or(|c| c.is_convex(v)))
     };
     (0..w * h).into_par_iter().filter(|&i| grid.corner[i] && ((convex.is_none() && passage[i]) || near_end(i))).collect()
 }
@@ -479,19 +479,37 @@ fn arc_vertex(grid: &NavGrid, near_passage: &[bool], v: [f64; 2]) -> bool {
 
 /// `mask` grown by `reach` cells in every direction (a square of side `2 reach + 1`).
 fn dilate(mask: &[bool], w: usize, h: usize, reach: usize) -> Vec<bool> {
+    if w == 0 || h == 0 {
+        return Vec::new();
+    }
+    // Along rows, then along columns, each by counts of the marked cells before each one:
+    // a window holds a marked cell when the counts at its ends differ. Rows in parallel.
     let mut rows = vec![false; w * h];
+    rows.par_chunks_mut(w).zip(mask.par_chunks(w)).for_each_init(Vec::new, |count, (out, row)| {
+        count.clear();
+        count.push(0u32);
+        for &m in row {
+            count.push(count[count.len() - 1] + m as u32);
+        }
+        for (c, o) in out.iter_mut().enumerate() {
+            *o = count[(c + reach).min(w - 1) + 1] > count[c.saturating_sub(reach)];
+        }
+    });
+    // Marked cells above each row's cells, per column.
+    let mut above = vec![0u32; (h + 1) * w];
     for r in 0..h {
-        let row = &mask[r * w..(r + 1) * w];
-        for c in 0..w {
-            rows[r * w + c] = row[c.saturating_sub(reach)..=(c + reach).min(w - 1)].iter().any(|&m| m);
+        let (done, next) = above.split_at_mut((r + 1) * w);
+        for ((n, &a), &m) in next[..w].iter_mut().zip(&done[r * w..]).zip(&rows[r * w..(r + 1) * w]) {
+            *n = a + m as u32;
         }
     }
     let mut out = vec![false; w * h];
-    for r in 0..h {
-        for c in 0..w {
-            out[r * w + c] = (r.saturating_sub(reach)..=(r + reach).min(h - 1)).any(|y| rows[y * w + c]);
+    out.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
+        let (lo, hi) = (&above[r.saturating_sub(reach) * w..][..w], &above[((r + reach).min(h - 1) + 1) * w..][..w]);
+        for ((o, &a), &b) in out.iter_mut().zip(lo).zip(hi) {
+            *o = b > a;
         }
-    }
+    });
     out
 }
 
@@ -502,6 +520,7 @@ fn passage_cells(grid: &NavGrid) -> Vec<bool> {
     let (wi, hi) = (w as isize, h as isize);
     let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < wi && r < hi && grid.is_nav_cell((r * wi + c) as usize);
     (0..w * h)
+        .into_par_iter()
         .map(|i| {
             let (c, r) = ((i % w) as isize, (i / w) as isize);
             let off_within = |dx: isize, dy: isize| (1..=3).any(|k| !nav(c + k * dx, r + k * dy));
@@ -542,5 +561,26 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
         ([s[0] / l, s[1] / l], TAUT_COS_COARSE)
     } else {
         ([0.0, 0.0], 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dilate;
+
+    #[test]
+    fn dilate_grows_by_a_square() {
+        let (w, h) = (23, 17);
+        let mask: Vec<bool> = (0..w * h).map(|i| (i * 7919 + 11) % 53 == 0).collect();
+        for reach in [0, 1, 3, 30] {
+            let got = dilate(&mask, w, h, reach);
+            for r in 0..h {
+                for c in 0..w {
+                    let want = (r.saturating_sub(reach)..=(r + reach).min(h - 1)).any(|y| (c.saturating_sub(reach)..=(c + reach).min(w - 1)).any(|x| mask[y * w + x]));
+                    assert_eq!(got[r * w + c], want, "reach {reach} at ({c}, {r})");
+                }
+            }
+        }
+        assert!(dilate(&[], 0, 0, 2).is_empty());
     }
 }

@@ -199,7 +199,7 @@ pub(crate) fn block_margins(grid: &NavGrid) -> Vec<f32> {
             }
             let c = grid.center(i);
             let m = match grid.nearest_point(i, c) {
-                Some(q) => r - (q[0] - c[0]).hypot(q[1] - c[1]) - HALF_DIAGONAL * res,
+                Some(q) => r - ((q[0] - c[0]).powi(2) + (q[1] - c[1]).powi(2)).sqrt() - HALF_DIAGONAL * res,
                 // The walk's test reads the clearance only where no segment is near at all.
                 None if grid.nearest_segment_distance(i, &[c, c]).is_none() && r - cl > 0.25 * res => r - cl,
                 None => return f32::NEG_INFINITY,

@@ -71,14 +71,15 @@ pub(crate) fn band_edges_with(tri: &[[f64; 3]; 3], lo: f64, hi: f64, poly: &mut 
     debug_assert_eq!(out.len(), sides.len());
     band_segments_with(tri, lo, hi, poly, tmp, out);
     let n = poly.len();
-    // Twice the signed area (about the first corner) and the longest edge.
-    let (mut twice_area, mut longest) = (0.0f64, 0.0f64);
+    // Twice the signed area (about the first corner) and the longest edge, squared.
+    let (mut twice_area, mut longest2) = (0.0f64, 0.0f64);
     for i in 0..n {
         let (a, b) = (poly[i], poly[(i + 1) % n]);
         twice_area += (a[0] - poly[0][0]) * (b[1] - poly[0][1]) - (a[1] - poly[0][1]) * (b[0] - poly[0][0]);
-        longest = longest.max((b[0] - a[0]).hypot(b[1] - a[1]));
+        longest2 = longest2.max((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2));
     }
-    let side = if twice_area.abs() <= SIDED_WIDTH * longest {
+    // |twice area| <= width * longest edge, squared (no libm call).
+    let side = if twice_area * twice_area <= SIDED_WIDTH * SIDED_WIDTH * longest2 {
         0
     } else if twice_area > 0.0 {
         1

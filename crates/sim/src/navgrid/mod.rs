@@ -604,9 +604,11 @@ impl NavGrid {
             if labels[i] != u32::MAX {
                 let k = labels[i] as usize;
                 let p = self.center(i);
-                radius[k] = radius[k].max((p[0] - centres[k][0]).hypot(p[1] - centres[k][1]));
+                radius[k] = radius[k].max((p[0] - centres[k][0]).powi(2) + (p[1] - centres[k][1]).powi(2));
             }
         }
+        // (squared above: no libm call per cell)
+        radius.iter_mut().for_each(|r| *r = r.sqrt());
         let a = self.spec.res * self.spec.res;
         self.islands = (0..sizes.len())
             .map(|k| Island {
