@@ -10,7 +10,9 @@
 //! Two nodes are joined when they see each other ([`segment_clear`]) and the leg is *taut* at
 //! both ends: a path that bends at a node leaves it along the boundary's tangent, never
 //! straight away from the obstacle, so legs within [`TAUT_COS`] of a node's outward normal are
-//! left out (most of the pairs, and none that a shortest path uses).
+//! left out (most of the pairs, and none that a shortest path uses). Nor is a leg tested that
+//! leaves a node steeply into the obstacle the node stands off ([`into_cos`]): it passes
+//! nearer to that obstacle than the radius allows, whatever lies beyond.
 //!
 //! Queries join their end points to the nodes they see, lazily: a goal-directed search over
 //! the graph tests the line of sight of a node only when it would settle the answer. See
@@ -98,6 +100,11 @@ impl CornerGraph {
         // random), leaving the candidates for the line-of-sight test.
         let (xs, ys): (Vec<f64>, Vec<f64>) = g.pos.iter().map(|p| (p[0], p[1])).unzip();
         let (nx, ny): (Vec<f64>, Vec<f64>) = g.normal.iter().map(|m| (m[0], m[1])).unzip();
+        // A leg that leaves a node steeply into the obstacle it stands off cannot be clear:
+        // see `into_cos`. Only nodes whose normal comes from an obstacle point at the radius
+        // (or the arc radius) are asked.
+        let (into, reach2) = (into_cos(grid), arc_radius(grid).powi(2));
+        let exact: Vec<bool> = g.taut.iter().map(|&t| t == TAUT_COS).collect();
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
             .map_init(Vec::new, |cand, a| {
@@ -114,8 +121,12 @@ impl CornerGraph {
                     // (every node's taut cosine is positive)
                     let taut_a = (da <= 0.0) | (da * da <= ta * ta * l2);
                     let taut_b = (db <= 0.0) | (db * db <= tb * tb * l2);
+                    // `d . n < -into |d|` at either end, for a leg longer than the arc radius.
+                    let long = l2 > reach2;
+                    let into_a = exact[a] & long & (da < 0.0) & (da * da > into * into * l2);
+                    let into_b = exact[b] & long & (db < 0.0) & (db * db > into * into * l2);
                     cand[m] = b as u32;
-                    m += (g.island[b] == ia && l2 >= 1e-18 && taut_a && taut_b) as usize;
+                    m += (g.island[b] == ia && l2 >= 1e-18 && taut_a && taut_b && !into_a && !into_b) as usize;
                 }
                 let pa = g.pos[a];
                 let mut out = Vec::new();
@@ -529,6 +540,25 @@ fn passage_cells(grid: &NavGrid) -> Vec<bool> {
         .collect()
 }
 
+/// The cosine with a node's outward normal below which a leg leaving the node (longer than
+/// the arc radius) comes nearer to the obstacle point the node stands off than the radius less
+/// [`LOS_EPS`] and a millimetre, so that no line of sight can pass: a node stands at the radius
+/// (an arc node at the arc radius `R`) from that point along its normal, and a leg leaving at
+/// cosine `-c` passes it at `R sqrt(1 - c^2)` once it is `R c` along. At least 0.5; above 1 (no
+/// leg is left out) for radii too small for the bound.
+fn into_cos(grid: &NavGrid) -> f64 {
+    into_cos_for(grid.params.radius, arc_radius(grid))
+}
+
+/// [`into_cos`] for an agent radius and an arc radius (m).
+fn into_cos_for(radius: f64, arc: f64) -> f64 {
+    let near = radius - LOS_EPS - 1e-3;
+    if near <= 0.0 {
+        return 2.0;
+    }
+    (1.0 - (near / arc).powi(2)).max(0.0).sqrt().max(0.5)
+}
+
 /// The boundary's outward unit normal at cell `i` and the taut-leg cosine that goes with it:
 /// from the nearest obstacle segment when there is one, else from the cells off the region
 /// around it; no normal (no pruning) when neither says.
@@ -566,7 +596,32 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
 
 #[cfg(test)]
 mod tests {
-    use super::dilate;
+    use super::{dilate, into_cos_for, LOS_EPS};
+
+    #[test]
+    fn legs_left_out_steeply_into_the_obstacle_pass_too_near_it() {
+        for radius in [0.05, 0.1, 0.18, 0.3, 1.0] {
+            let arc = radius / 15f64.to_radians().cos() + 1e-6;
+            let c = into_cos_for(radius, arc);
+            assert!((0.5..1.0).contains(&c), "{radius}: {c}");
+            // A node at `d` (the radius or the arc radius) from the obstacle point at the
+            // origin, along +y; legs leaving at cosine just below -c with +y, longer than
+            // the arc radius, pass nearer than the radius less the tolerance.
+            for d in [radius, arc] {
+                for k in 0..=100 {
+                    let cos = -c - (1.0 - c) * k as f64 / 100.0 - 1e-9;
+                    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                    let len = arc * (1.0 + 1e-9);
+                    // Nearest approach of the leg from (0, d) along (sin, cos) to the origin.
+                    let t = (-d * cos).clamp(0.0, len);
+                    let near = (t * sin).hypot(d + t * cos);
+                    assert!(near < radius - LOS_EPS, "radius {radius}, d {d}, cos {cos}: {near}");
+                }
+            }
+        }
+        // Too small a radius for the bound: no leg is left out.
+        assert!(into_cos_for(0.004, 0.0042) > 1.0);
+    }
 
     #[test]
     fn dilate_grows_by_a_square() {
