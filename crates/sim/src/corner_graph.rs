@@ -48,6 +48,10 @@ pub struct CornerGraph {
     taut: Vec<f64>,
     /// Island of each node.
     island: Vec<u32>,
+    /// The agent radius and the arc radius (m), and [`into_cos`] at [`LOS_EPS`].
+    radius: f64,
+    arc: f64,
+    into: f64,
     /// Legs: those of node k are `legs[start[k]..start[k + 1]]` (other node, length in m).
     start: Vec<u32>,
     legs: Vec<(u32, f64)>,
@@ -77,6 +81,9 @@ impl CornerGraph {
             normal: Vec::with_capacity(cells.len()),
             taut: Vec::with_capacity(cells.len()),
             island: cells.iter().map(|&i| grid.island_of[i]).collect(),
+            radius: grid.params.radius,
+            arc: arc_radius(grid),
+            into: into_cos(grid),
             start: Vec::new(),
             legs: Vec::new(),
             bucket_rect: Vec::new(),
@@ -227,7 +234,18 @@ impl CornerGraph {
         if l < 1e-9 {
             return true;
         }
-        self.is_taut(k, [d[0] / l, d[1] / l]) && segment_clear(grid, p, a, eps)
+        let u = [d[0] / l, d[1] / l];
+        if !self.is_taut(k, u) {
+            return false;
+        }
+        // Steeply into the obstacle the node stands off: too near it (see `into_cos`).
+        if self.taut[k] == TAUT_COS && l > self.arc {
+            let into = if eps == LOS_EPS { self.into } else { into_cos_eps(self.radius, self.arc, eps) };
+            if u[0] * self.normal[k][0] + u[1] * self.normal[k][1] < -into {
+                return false;
+            }
+        }
+        segment_clear(grid, p, a, eps)
     }
 
     /// Geodesic distance between two points of the floor (m); infinite across islands or off
@@ -552,7 +570,13 @@ fn into_cos(grid: &NavGrid) -> f64 {
 
 /// [`into_cos`] for an agent radius and an arc radius (m).
 fn into_cos_for(radius: f64, arc: f64) -> f64 {
-    let near = radius - LOS_EPS - 1e-3;
+    into_cos_eps(radius, arc, LOS_EPS)
+}
+
+/// [`into_cos_for`] for a line-of-sight tolerance `eps` (m) other than [`LOS_EPS`] (a query's
+/// end point standing inside the radius gets more).
+fn into_cos_eps(radius: f64, arc: f64, eps: f64) -> f64 {
+    let near = radius - eps - 1e-3;
     if near <= 0.0 {
         return 2.0;
     }
@@ -596,14 +620,17 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
 
 #[cfg(test)]
 mod tests {
-    use super::{dilate, into_cos_for, LOS_EPS};
+    use super::{dilate, into_cos_eps, into_cos_for, LOS_EPS};
 
     #[test]
     fn legs_left_out_steeply_into_the_obstacle_pass_too_near_it() {
-        for radius in [0.05, 0.1, 0.18, 0.3, 1.0] {
+        for (radius, eps) in [0.05, 0.1, 0.18, 0.3, 1.0].into_iter().flat_map(|r| [(r, LOS_EPS), (r, 0.0155)]) {
             let arc = radius / 15f64.to_radians().cos() + 1e-6;
-            let c = into_cos_for(radius, arc);
+            let c = into_cos_eps(radius, arc, eps);
             assert!((0.5..1.0).contains(&c), "{radius}: {c}");
+            if eps == LOS_EPS {
+                assert_eq!(c, into_cos_for(radius, arc));
+            }
             // A node at `d` (the radius or the arc radius) from the obstacle point at the
             // origin, along +y; legs leaving at cosine just below -c with +y, longer than
             // the arc radius, pass nearer than the radius less the tolerance.
@@ -615,7 +642,7 @@ mod tests {
                     // Nearest approach of the leg from (0, d) along (sin, cos) to the origin.
                     let t = (-d * cos).clamp(0.0, len);
                     let near = (t * sin).hypot(d + t * cos);
-                    assert!(near < radius - LOS_EPS, "radius {radius}, d {d}, cos {cos}: {near}");
+                    assert!(near < radius - eps, "radius {radius}, eps {eps}, d {d}, cos {cos}: {near}");
                 }
             }
         }
