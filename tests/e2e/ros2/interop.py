@@ -101,11 +101,17 @@ if len(rgb.data) != rgb.step * rgb.height or rgb.step != 3 * rgb.width:
 
 
 def truth_at(stamp):
-    """The ground-truth pose published with the same stamp (the state of one instant)."""
-    m = min(got["truth"], key=lambda m: abs(sec(m.header.stamp) - sec(stamp)))
-    if abs(sec(m.header.stamp) - sec(stamp)) > 1e-6:
-        fail("no ground truth stamped %.3f (nearest %.3f)" % (sec(stamp), sec(m.header.stamp)))
-    return m.pose
+    """The ground-truth pose published with the same stamp (the state of one instant). DDS
+    orders samples within a topic only: the pose of the instant a scan was taken may still be
+    on its way when the scan is in, so it is waited for (2 s at most)."""
+    t0 = time.time()
+    while True:
+        m = min(got["truth"], key=lambda m: abs(sec(m.header.stamp) - sec(stamp)))
+        if abs(sec(m.header.stamp) - sec(stamp)) <= 1e-6:
+            return m.pose
+        if time.time() - t0 > 2.0:
+            fail("no ground truth stamped %.3f (nearest %.3f)" % (sec(stamp), sec(m.header.stamp)))
+        rclpy.spin_once(node, timeout_sec=0.05)
 
 
 scan_truth = truth_at(scan.header.stamp)
