@@ -11,7 +11,7 @@
 //! both ends: a path that bends at a node leaves it along the boundary's tangent, never
 //! straight away from the obstacle, so legs within [`TAUT_COS`] of a node's outward normal are
 //! left out (most of the pairs, and none that a shortest path uses). Nor is a leg tested that
-//! leaves a node steeply into the obstacle the node stands off ([`into_cos`]): it passes
+//! leaves a node steeply into the obstacle the node stands off ([`into_cos_for`]): it passes
 //! nearer to that obstacle than the radius allows, whatever lies beyond.
 //!
 //! Queries join their end points to the nodes they see, lazily: a goal-directed search over
@@ -51,10 +51,6 @@ pub struct CornerGraph {
     taut: Vec<f64>,
     /// Island of each node.
     island: Vec<u32>,
-    /// The agent radius and the arc radius (m), and [`into_cos`] at [`LOS_EPS`].
-    radius: f64,
-    arc: f64,
-    into: f64,
     /// Legs: those of node k are `legs[start[k]..start[k + 1]]` (other node, length in m).
     start: Vec<u32>,
     legs: Vec<(u32, f64)>,
@@ -84,9 +80,6 @@ impl CornerGraph {
             normal: Vec::with_capacity(cells.len()),
             taut: Vec::with_capacity(cells.len()),
             island: cells.iter().map(|&i| grid.island_of[i]).collect(),
-            radius: grid.params.radius,
-            arc: arc_radius(grid),
-            into: into_cos(grid),
             start: Vec::new(),
             legs: Vec::new(),
             bucket_rect: Vec::new(),
@@ -111,9 +104,9 @@ impl CornerGraph {
         let (xs, ys): (Vec<f64>, Vec<f64>) = g.pos.iter().map(|p| (p[0], p[1])).unzip();
         let (nx, ny): (Vec<f64>, Vec<f64>) = g.normal.iter().map(|m| (m[0], m[1])).unzip();
         // A leg that leaves a node steeply into the obstacle it stands off cannot be clear:
-        // see `into_cos`. Only nodes whose normal comes from an obstacle point at the radius
+        // see `into_cos_for`. Only nodes whose normal comes from an obstacle point at the radius
         // (or the arc radius) are asked.
-        let (into, reach2) = (g.into, g.arc * g.arc);
+        let (into, reach2) = (into_cos_for(grid.params.radius, arc_radius(grid)), arc_radius(grid).powi(2));
         let exact: Vec<bool> = g.taut.iter().map(|&t| t == TAUT_COS).collect();
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
@@ -133,8 +126,8 @@ impl CornerGraph {
                     let taut_b = (db <= 0.0) | (db * db <= tb * tb * l2);
                     // `d . n < -into |d|` at either end, for a leg longer than the arc radius.
                     let long = l2 > reach2;
-                    let into_a = exact[a] & long & (da < 0.0) & (da * da > into * into * l2);
-                    let into_b = exact[b] & long & (db < 0.0) & (db * db > into * into * l2);
+                    let into_a = exact[a] & long & heads_into(da, l2, into);
+                    let into_b = exact[b] & long & heads_into(db, l2, into);
                     cand[m] = b as u32;
                     m += (g.island[b] == ia && l2 >= 1e-18 && taut_a && taut_b && !into_a && !into_b) as usize;
                 }
@@ -237,16 +230,14 @@ impl CornerGraph {
         if l < 1e-9 {
             return true;
         }
-        let u = [d[0] / l, d[1] / l];
-        if !self.is_taut(k, u) {
+        if !self.is_taut(k, [d[0] / l, d[1] / l]) {
             return false;
         }
-        // Steeply into the obstacle the node stands off: too near it (see `into_cos`).
-        if self.taut[k] == TAUT_COS && l > self.arc {
-            let into = if eps == LOS_EPS { self.into } else { into_cos_eps(self.radius, self.arc, eps) };
-            if u[0] * self.normal[k][0] + u[1] * self.normal[k][1] < -into {
-                return false;
-            }
+        // Steeply into the obstacle the node stands off: too near it (see `into_cos_for`; the
+        // bound is at least 0.5, so most legs are settled without working it out).
+        let dn = d[0] * self.normal[k][0] + d[1] * self.normal[k][1];
+        if self.taut[k] == TAUT_COS && dn < -0.5 * l && l > arc_radius(grid) && heads_into(dn, l * l, into_cos_eps(grid.params.radius, arc_radius(grid), eps)) {
+            return false;
         }
         segment_clear(grid, p, a, eps)
     }
@@ -442,14 +433,17 @@ fn convex_vertices(grid: &NavGrid, near_passage: &[bool]) -> ConvexVertices {
 /// [`LOS_EPS`] and a millimetre, so that no line of sight can pass: a node stands at the radius
 /// (an arc node at the arc radius `R`) from that point along its normal, and a leg leaving at
 /// cosine `-c` passes it at `R sqrt(1 - c^2)` once it is `R c` along. At least 0.5; above 1 (no
-/// leg is left out) for radii too small for the bound.
-fn into_cos(grid: &NavGrid) -> f64 {
-    into_cos_for(grid.params.radius, arc_radius(grid))
-}
-
-/// [`into_cos`] for an agent radius and an arc radius (m).
+/// leg is left out) for radii too small for the bound. For an agent radius and an arc radius
+/// (m).
 fn into_cos_for(radius: f64, arc: f64) -> f64 {
     into_cos_eps(radius, arc, LOS_EPS)
+}
+
+/// Whether a leg `d` (`dn = d . n` with a node's outward normal `n`, `l2 = |d|^2`) leaves the
+/// node at a cosine below `-into` with its normal: `d . n < -into |d|`, without a root.
+#[inline]
+fn heads_into(dn: f64, l2: f64, into: f64) -> bool {
+    (dn < 0.0) & (dn * dn > into * into * l2)
 }
 
 /// [`into_cos_for`] for a line-of-sight tolerance `eps` (m) other than [`LOS_EPS`] (a query's
