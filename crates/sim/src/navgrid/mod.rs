@@ -641,35 +641,18 @@ impl NavGrid {
     }
 
     /// Distance from segment `s` to the obstacle segments [`NavGrid::nearest_around`] cell
-    /// `i` (m), if it has any. Written out here and in [`NavGrid::nearest_segments_clear`]:
-    /// both run per cell of a line-of-sight walk, where an iterator over the neighbours cost
-    /// the corner graph's build 5% on aws_small_house.
+    /// `i` (m), if it has any.
     pub(crate) fn nearest_segment_distance(&self, i: usize, s: &clearance::Seg) -> Option<f64> {
-        let (w, h) = (self.spec.w, self.spec.h);
-        let (c, r) = (i % w, i / w);
-        let mut seen = [u32::MAX; 9];
-        let mut best: Option<f64> = None;
-        for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
-            for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
-                let k = self.nearest[rr * w + cc];
-                if k == u32::MAX || seen.contains(&k) {
-                    continue;
-                }
-                if let Some(slot) = seen.iter_mut().find(|x| **x == u32::MAX) {
-                    *slot = k;
-                }
-                let d = clearance::segment_segment_distance(s, &self.segments[k as usize]);
-                best = Some(best.map_or(d, |b: f64| b.min(d)));
-            }
-        }
-        best
+        self.nearest_around(i).map(|k| clearance::segment_segment_distance(s, &self.segments[k as usize])).reduce(f64::min)
     }
 
     /// Whether segment `line` keeps at least `min` (m) from every obstacle segment
     /// [`NavGrid::nearest_around`] cell `i` (the same answer as comparing
     /// [`NavGrid::nearest_segment_distance`] with `min`), if it has any; stops at the first
     /// that comes nearer. `seen` holds segments already found clear of this line (a walk's
-    /// cells share most neighbours), and takes those found here.
+    /// cells share most neighbours), and takes those found here. Written out rather than over
+    /// [`NavGrid::nearest_around`]: it runs per cell of a line-of-sight walk, where the
+    /// iterator cost the corner graph's build 5% on aws_small_house.
     pub(crate) fn nearest_segments_clear(&self, i: usize, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
         let (w, h) = (self.spec.w, self.spec.h);
         let (c, r) = (i % w, i / w);
