@@ -13,7 +13,7 @@
 use rand::SeedableRng;
 use std::path::Path;
 use std::time::Instant;
-use xhab_sim::navgrid::AgentParams;
+use xhab_sim::navgrid::{AgentParams, NavGrid};
 use xhab_sim::scene::{load, LoadOptions};
 use xhab_sim::world::World;
 use xhab_types::Point2;
@@ -49,13 +49,23 @@ fn main() {
         };
         let mut best = [f64::INFINITY; 3];
         let mut sizes = String::new();
-        for _ in 0..runs {
+        let mut pair_line = String::new();
+        for run in 0..runs.max(1) {
             let copy = scene.clone();
             let t = Instant::now();
             let world = World::new(copy, AgentParams::default());
-            let floor = world.default_floor().expect("a floor");
+            let Some(floor) = world.default_floor() else {
+                eprintln!("build_phases: {path}: no walkable floor");
+                std::process::exit(1);
+            };
             let t1 = t.elapsed().as_secs_f64();
-            let grid = world.grid(floor).expect("a grid");
+            let grid = match world.grid(floor) {
+                Ok(g) => g,
+                Err(e) => {
+                    eprintln!("build_phases: {path}: {e}");
+                    std::process::exit(1);
+                }
+            };
             let t2 = t.elapsed().as_secs_f64();
             let graph = grid.corner_graph();
             let t3 = t.elapsed().as_secs_f64();
@@ -63,24 +73,32 @@ fn main() {
                 *b = b.min(v);
             }
             sizes = format!("grid {:?} cells, graph {} nodes / {} legs", grid.size(), graph.len(), graph.leg_count());
+            if run + 1 == runs.max(1) && pairs > 0 {
+                // On the last run's grid and graph.
+                pair_line = pair_queries(&grid, pairs);
+            }
         }
         println!("{path}: floors {:.1} ms, grid {:.1} ms, corner graph {:.1} ms ({sizes})", best[0] * 1e3, best[1] * 1e3, best[2] * 1e3);
-        if pairs > 0 {
-            let world = World::new(scene.clone(), AgentParams::default());
-            let grid = world.grid(world.default_floor().expect("a floor")).expect("a grid");
-            let graph = grid.corner_graph();
-            let cells = grid.cells_on_islands(0.0);
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-            let ends: Vec<(Point2, Point2)> = (0..pairs)
-                .map(|_| {
-                    let a = grid.sample_navigable_point(&cells, &mut rng).expect("a point");
-                    let b = grid.sample_navigable_point(&cells, &mut rng).expect("a point");
-                    (Point2::new(a.x, a.y), Point2::new(b.x, b.y))
-                })
-                .collect();
-            let t = Instant::now();
-            let hash = ends.iter().fold(0u64, |h, &(a, b)| h.wrapping_mul(1_000_003).wrapping_add(graph.distance(&grid, a, b).to_bits()));
-            println!("  {pairs} pair queries: {:.0} per s, distance hash {hash:016x}", pairs as f64 / t.elapsed().as_secs_f64());
+        if !pair_line.is_empty() {
+            println!("{pair_line}");
         }
     }
+}
+
+/// `pairs` cold pair queries between seeded random navigable points of `grid`, on this thread:
+/// their rate and a hash of their distances' bits.
+fn pair_queries(grid: &NavGrid, pairs: usize) -> String {
+    let graph = grid.corner_graph();
+    let cells = grid.cells_on_islands(0.0);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let ends: Vec<(Point2, Point2)> = (0..pairs)
+        .filter_map(|_| {
+            let a = grid.sample_navigable_point(&cells, &mut rng)?;
+            let b = grid.sample_navigable_point(&cells, &mut rng)?;
+            Some((Point2::new(a.x, a.y), Point2::new(b.x, b.y)))
+        })
+        .collect();
+    let t = Instant::now();
+    let hash = ends.iter().fold(0u64, |h, &(a, b)| h.wrapping_mul(1_000_003).wrapping_add(graph.distance(grid, a, b).to_bits()));
+    format!("  {} pair queries: {:.0} per s, distance hash {hash:016x}", ends.len(), ends.len() as f64 / t.elapsed().as_secs_f64())
 }
