@@ -21,7 +21,7 @@
 //! of 2, with no visible seam where the level changes). Everything is `f32` in the shader's order, and the colour is continuous in the level
 //! of detail, so renderers that compute it a few ulps apart still agree to within rounding.
 
-use super::surface::{linear_to_srgb_byte, sample_bilinear, srgb_table};
+use super::surface::{linear_to_srgb_byte, sample_bilinear_with, srgb_table};
 use crate::scene::Texture;
 use rayon::prelude::*;
 
@@ -59,15 +59,21 @@ impl MipChain {
     /// blended when the fraction is within [`BLEND`] of one half (see the module).
     #[inline]
     pub fn sample(&self, uv: [f32; 2], lod: f32) -> [f32; 3] {
+        self.sample_with(srgb_table(), uv, lod)
+    }
+
+    /// [`MipChain::sample`] with the decoding table `lut` ([`srgb_table`]) at hand.
+    #[inline]
+    pub(crate) fn sample_with(&self, lut: &[f32; 512], uv: [f32; 2], lod: f32) -> [f32; 3] {
         let l = (lod as usize).min(self.levels.len() - 1);
         let w = next_level_weight(lod - l as f32);
         match self.levels.get(l + 1) {
-            Some(next) if w >= 1.0 => sample_bilinear(next, uv),
+            Some(next) if w >= 1.0 => sample_bilinear_with(lut, next, uv),
             Some(next) if w > 0.0 => {
-                let (a, b) = (sample_bilinear(&self.levels[l], uv), sample_bilinear(next, uv));
+                let (a, b) = (sample_bilinear_with(lut, &self.levels[l], uv), sample_bilinear_with(lut, next, uv));
                 std::array::from_fn(|k| a[k] * (1.0 - w) + b[k] * w)
             }
-            _ => sample_bilinear(&self.levels[l], uv),
+            _ => sample_bilinear_with(lut, &self.levels[l], uv),
         }
     }
 }

@@ -98,11 +98,12 @@ impl Surfaces {
     /// them after, so that each loop is short (same bytes as `color`).
     #[inline]
     pub fn lookup(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> Lookup {
-        let Some(m) = self.materials.get(t.material as usize) else { return Lookup::Flat([160; 3]) };
-        let Some(tex) = m.texture.and_then(|i| self.textures.get(i as usize)) else { return Lookup::Flat(m.flat) };
-        let bary = bary();
-        let uv: [f32; 2] = std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32);
-        Lookup::Texture { material: t.material, uv, lod: level_of_detail(footprint, t.texel_scale, tex.levels.len()) }
+        match self.paint(t) {
+            Paint::Flat(c) => Lookup::Flat(c),
+            Paint::Texture { chain, .. } => {
+                Lookup::Texture { material: t.material, uv: texture_uv(t, bary()), lod: level_of_detail(footprint, t.texel_scale, chain.levels.len()) }
+            }
+        }
     }
 
     /// The second half of [`Surfaces::color`]: the colour a [`Surfaces::lookup`] stands for.
@@ -113,11 +114,51 @@ impl Surfaces {
             Lookup::Texture { material, uv, lod } => {
                 let m = &self.materials[material as usize];
                 let tex = &self.textures[m.texture.unwrap_or_default() as usize];
-                let s = tex.sample(uv, lod);
-                std::array::from_fn(|i| linear_to_srgb_byte(s[i] * m.factor[i]))
+                Paint::Texture { chain: tex, factor: m.factor }.textured(Srgb::get(), uv, lod)
             }
         }
     }
+
+    /// How triangle `t`'s pixels are coloured: a flat colour, or a texture times a factor.
+    /// A renderer asks once per run of pixels on one triangle.
+    #[inline]
+    pub fn paint(&self, t: &SurfaceTri) -> Paint<'_> {
+        let Some(m) = self.materials.get(t.material as usize) else { return Paint::Flat([160; 3]) };
+        match m.texture.and_then(|i| self.textures.get(i as usize)) {
+            Some(chain) => Paint::Texture { chain, factor: m.factor },
+            None => Paint::Flat(m.flat),
+        }
+    }
+}
+
+/// How a triangle is coloured ([`Surfaces::paint`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Paint<'a> {
+    /// An untextured material's colour (sRGB bytes).
+    Flat([u8; 3]),
+    /// A texture's pyramid times a linear RGB factor.
+    Texture { chain: &'a MipChain, factor: [f32; 3] },
+}
+
+impl Paint<'_> {
+    /// The colour (sRGB bytes) at texture coordinates `uv` and level of detail `lod` (the
+    /// flat colour when untextured).
+    #[inline(always)]
+    pub fn textured(&self, srgb: Srgb, uv: [f32; 2], lod: f32) -> [u8; 3] {
+        match *self {
+            Paint::Flat(c) => c,
+            Paint::Texture { chain, factor } => {
+                let s = chain.sample_with(srgb.table, uv, lod);
+                [srgb.encode(s[0] * factor[0]), srgb.encode(s[1] * factor[1]), srgb.encode(s[2] * factor[2])]
+            }
+        }
+    }
+}
+
+/// Texture coordinates of triangle `t` at barycentric weights `bary` of its corners.
+#[inline(always)]
+pub(crate) fn texture_uv(t: &SurfaceTri, bary: [f64; 3]) -> [f32; 2] {
+    std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32)
 }
 
 /// What the colour of a surface point needs once its triangle is known
@@ -163,17 +204,40 @@ fn encode_start() -> &'static [u8; ENCODE_BINS] {
 /// step from there, without a branch; the same answer as a binary search of the steps).
 #[inline]
 pub fn linear_to_srgb_byte(x: f32) -> u8 {
-    if !(x > 0.0) {
-        return 0;
+    Srgb::get().encode(x)
+}
+
+/// The shared sRGB tables ([`srgb_table`] and the start table of [`linear_to_srgb_byte`]),
+/// fetched once for a renderer's loop instead of at every texel and channel.
+#[derive(Clone, Copy)]
+pub(crate) struct Srgb {
+    /// [`srgb_table`].
+    pub table: &'static [f32; 512],
+    start: &'static [u8; ENCODE_BINS],
+}
+
+impl Srgb {
+    /// The tables (built on first use).
+    #[inline]
+    pub fn get() -> Srgb {
+        Srgb { table: srgb_table(), start: encode_start() }
     }
-    if x >= 1.0 {
-        return 255;
+
+    /// [`linear_to_srgb_byte`].
+    #[inline(always)]
+    pub fn encode(&self, x: f32) -> u8 {
+        if !(x > 0.0) {
+            return 0;
+        }
+        if x >= 1.0 {
+            return 255;
+        }
+        // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound. No bin
+        // holds two steps (a test checks), so one comparison finishes; entry 511 (2) stands
+        // after the last step.
+        let c = self.start[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
+        (c + (self.table[256 + c] <= x) as usize) as u8
     }
-    // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound. No bin
-    // holds two steps (a test checks), so one comparison finishes; entry 511 (2) stands
-    // after the last step.
-    let c = encode_start()[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
-    (c + (srgb_table()[256 + c] <= x) as usize) as u8
 }
 
 /// [`linear_to_srgb_byte`] by a binary search of the 255 linear values where rounding steps.
@@ -191,7 +255,12 @@ fn encode_by_search(x: f32) -> u8 {
 /// The texture's (or a mip level's) linear RGB at texture coordinates `uv` (bilinear,
 /// wrapped; see the module).
 pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
-    let lut = srgb_table();
+    sample_bilinear_with(srgb_table(), t, uv)
+}
+
+/// [`sample_bilinear`] with the decoding table `lut` ([`srgb_table`]) at hand.
+#[inline(always)]
+pub(crate) fn sample_bilinear_with(lut: &[f32; 512], t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     let (w, h) = (t.width as i32, t.height as i32);
     let x = uv[0] * t.width as f32 - 0.5;
     let y = uv[1] * t.height as f32 - 0.5;
@@ -200,7 +269,11 @@ pub fn sample_bilinear(t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     // Inside the image (the common case) no wrapping is needed.
     let wrap = |m: Wrap, i: i32, n: i32| if i >= 0 && i < n - 1 { [i as u32, i as u32 + 1] } else { [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32] };
     let (xs, ys) = (wrap(t.wrap_s, i, w), wrap(t.wrap_t, j, h));
-    let c = |x: u32, y: u32| t.texel(x, y).map(|b| lut[b as usize]);
+    let c = |x: u32, y: u32| {
+        let i = (y as usize * t.width as usize + x as usize) * 4;
+        let p: [u8; 4] = t.rgba[i..i + 4].try_into().unwrap_or_default();
+        [lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]]
+    };
     let (c00, c10, c01, c11) = (c(xs[0], ys[0]), c(xs[1], ys[0]), c(xs[0], ys[1]), c(xs[1], ys[1]));
     std::array::from_fn(|k| {
         let top = c00[k] * (1.0 - fx) + c10[k] * fx;

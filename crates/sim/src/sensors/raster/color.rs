@@ -1,13 +1,14 @@
 //! Colour images: the nearest triangle's id at every pixel (drawn by the same row spans as
 //! depth, the clusters dealt to one buffer per thread as for depth), then each pixel shaded
 //! by the colour rule of [`crate::sensors::surface`]. What a pixel needs of its triangle (its
-//! [`TrianglePlane`]) is worked out once per run of pixels that see the same triangle.
+//! [`TrianglePlane`], its material) is worked out once per run of pixels that see the same
+//! triangle.
 
 use super::depth::depth_of;
 use super::{span, RasterScene, Setup, Target, View, MERGE_ROWS};
 use crate::sensors::camera::CameraParams;
-use crate::sensors::mipmap::footprint;
-use crate::sensors::surface::{dot, shade, TrianglePlane};
+use crate::sensors::mipmap::{footprint, level_of_detail};
+use crate::sensors::surface::{dot, shade, texture_uv, Paint, Srgb, TrianglePlane};
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
@@ -75,32 +76,44 @@ impl RasterScene {
         let origin = [base.x, base.y, floor_z + cam.mount_height];
         let pixel_angle = (1.0 / k.fx) as f32;
         let mut data = vec![0u8; cam.width * cam.height * 3];
-        // Two loops per row, each short enough for the pixels to overlap in the processor:
-        // the geometry of each pixel (where its ray meets its triangle), then the colours.
-        data.par_chunks_mut(cam.width * 3).enumerate().for_each_init(Vec::new, |looks, (v, row)| {
+        let w = cam.width;
+        let xs: Vec<f64> = (0..w).map(|u| (u as f64 - k.cx) / k.fx).collect();
+        let srgb = Srgb::get();
+        // Per run of pixels that see one triangle: its plane and how it is painted, then each
+        // pixel's ray, where it meets the plane, and its colour.
+        data.par_chunks_mut(w * 3).enumerate().for_each(|(v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
-            looks.clear();
-            // The plane of the triangle the last pixel saw, reused along its run of pixels.
-            let mut tri: Option<(u32, TrianglePlane)> = None;
-            for u in 0..cam.width {
-                let id = ids[v * cam.width + u];
-                if id == u32::MAX || depth.data[v * cam.width + u] == 0.0 {
+            let (ids, depth) = (&ids[v * w..(v + 1) * w], &depth.data[v * w..(v + 1) * w]);
+            let mut u = 0;
+            while u < w {
+                let id = ids[u];
+                let end = u + ids[u..].iter().take_while(|&&i| i == id).count();
+                if id == u32::MAX {
+                    u = end;
                     continue;
                 }
-                let x = (u as f64 - k.cx) / k.fx;
-                let dir = [c + x * s, s - x * c, -y];
-                let t = match &tri {
-                    Some((last, t)) if *last == id => t,
-                    _ => &tri.insert((id, TrianglePlane::new(&self.tris[id as usize].v, origin))).1,
-                };
-                let denom = dot(t.n, dir);
-                let len = dot(dir, dir).sqrt();
-                let cos = (denom / (t.ln * len)).abs();
-                let fp = footprint((t.distance(denom) * len) as f32, pixel_angle, cos as f32);
-                looks.push((u, self.surfaces.lookup(&self.surf[id as usize], || t.barycentric(dir, denom), fp), cos));
-            }
-            for (u, look, cos) in looks.iter() {
-                row[u * 3..u * 3 + 3].copy_from_slice(&shade(self.surfaces.resolve(look), *cos));
+                let t = TrianglePlane::new(&self.tris[id as usize].v, origin);
+                let surf = &self.surf[id as usize];
+                let paint = self.surfaces.paint(surf);
+                for (px, (&x, &d)) in (u..end).zip(xs[u..end].iter().zip(&depth[u..end])) {
+                    if d == 0.0 {
+                        continue;
+                    }
+                    let dir = [c + x * s, s - x * c, -y];
+                    let denom = dot(t.n, dir);
+                    let len = dot(dir, dir).sqrt();
+                    let cos = (denom / (t.ln * len)).abs();
+                    let color = match paint {
+                        Paint::Flat(col) => col,
+                        Paint::Texture { chain, .. } => {
+                            let fp = footprint((t.distance(denom) * len) as f32, pixel_angle, cos as f32);
+                            let uv = texture_uv(surf, t.barycentric(dir, denom));
+                            paint.textured(srgb, uv, level_of_detail(fp, surf.texel_scale, chain.levels.len()))
+                        }
+                    };
+                    row[px * 3..px * 3 + 3].copy_from_slice(&shade(color, cos));
+                }
+                u = end;
             }
         });
         (depth, data)
