@@ -66,7 +66,13 @@ impl MipChain {
     #[inline]
     pub(crate) fn sample_with(&self, lut: &[f32; 512], uv: [f32; 2], lod: f32) -> [f32; 3] {
         let l = (lod as usize).min(self.levels.len() - 1);
-        let w = next_level_weight(lod - l as f32);
+        self.sample_level(lut, uv, l, next_level_weight(lod - l as f32))
+    }
+
+    /// [`MipChain::sample`] given the level `l` and the weight `w` of level `l + 1` that a
+    /// level of detail gives ([`level_and_weight`]).
+    #[inline(always)]
+    pub(crate) fn sample_level(&self, lut: &[f32; 512], uv: [f32; 2], l: usize, w: f32) -> [f32; 3] {
         match self.levels.get(l + 1) {
             Some(next) if w >= 1.0 => sample_bilinear_with(lut, next, uv),
             Some(next) if w > 0.0 => {
@@ -158,8 +164,66 @@ pub fn level_of_detail(footprint: f32, scale: f32, levels: usize) -> f32 {
     texels.log2().min(levels.saturating_sub(1) as f32)
 }
 
+/// The level `l` and the weight `w` of level `l + 1` that [`MipChain::sample`] reads for the
+/// level of detail [`level_of_detail`] gives (`levels` at least 1): the same level and weight,
+/// without `log2` where the footprint is not within a hair of a blend band (three pixels in
+/// four): there the level read follows from the footprint's binary exponent and mantissa.
+#[inline]
+pub fn level_and_weight(footprint: f32, scale: f32, levels: usize) -> (usize, f32) {
+    let texels = footprint * scale;
+    if !(texels > 1.0) {
+        return (0, next_level_weight(0.0));
+    }
+    let top = levels.saturating_sub(1);
+    // `log2` is exact at powers of two and increasing, so a footprint of 2^e texels or more
+    // reads at least level e.
+    let e = ((texels.to_bits() >> 23) & 0xff) as usize - 127;
+    let slow = || {
+        let lod = level_of_detail(footprint, scale, levels);
+        let l = (lod as usize).min(top);
+        (l, next_level_weight(lod - l as f32))
+    };
+    if e >= top || !texels.is_finite() {
+        return slow();
+    }
+    // The mantissa as 1 + m in [1, 2): below 2^(3/8) (less a margin far wider than log2's
+    // rounding) level e alone; above 2^(5/8) (plus the margin) level e + 1 alone, whether
+    // log2 rounds up to e + 1 or not.
+    let m = f32::from_bits((texels.to_bits() & 0x7f_ffff) | 0x3f80_0000);
+    if m < 1.296_749_6 {
+        (e, 0.0)
+    } else if m > 1.542_317_8 {
+        (e, 1.0)
+    } else {
+        slow()
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn level_and_weight_reads_what_the_level_of_detail_reads() {
+        use super::{level_and_weight, level_of_detail, next_level_weight};
+        // The level read: l + 1 when the weight is 1, else l with the weight.
+        let read = |(l, w): (usize, f32)| if w >= 1.0 { (l + 1, 0.0) } else { (l, w) };
+        let mut x = 0.3f32;
+        while x < 1e7 {
+            for levels in [1, 2, 5, 12] {
+                for scale in [1.0f32, 3.7, 1e-3] {
+                    let lod = level_of_detail(x, scale, levels);
+                    let l = (lod as usize).min(levels - 1);
+                    let w = next_level_weight(lod - l as f32);
+                    // A weight of 1 with no next level reads level l.
+                    let want = if l + 1 >= levels { (l, if w >= 1.0 { 0.0 } else { w }) } else { read((l, w)) };
+                    let (gl, gw) = level_and_weight(x, scale, levels);
+                    let got = if gl + 1 >= levels { (gl, if gw >= 1.0 { 0.0 } else { gw }) } else { read((gl, gw)) };
+                    assert_eq!(got, want, "footprint {x}, scale {scale}, levels {levels}");
+                }
+            }
+            x = f32::from_bits(x.to_bits() + 997);
+        }
+    }
+
     use super::*;
     use crate::scene::Wrap;
 

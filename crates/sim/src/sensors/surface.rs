@@ -17,7 +17,9 @@
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
 
-use super::mipmap::{level_of_detail, texel_scale, MipChain};
+use super::mipmap::{level_of_detail, next_level_weight, texel_scale, MipChain};
+#[cfg(doc)]
+use super::mipmap::level_and_weight;
 use super::rounding::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
@@ -147,8 +149,21 @@ impl Paint<'_> {
     pub fn textured(&self, srgb: Srgb, uv: [f32; 2], lod: f32) -> [u8; 3] {
         match *self {
             Paint::Flat(c) => c,
+            Paint::Texture { chain, .. } => {
+                let l = (lod as usize).min(chain.levels.len() - 1);
+                self.at_level(srgb, uv, l, next_level_weight(lod - l as f32))
+            }
+        }
+    }
+
+    /// [`Paint::textured`] given the level and weight ([`level_and_weight`]) instead of the
+    /// level of detail.
+    #[inline(always)]
+    pub fn at_level(&self, srgb: Srgb, uv: [f32; 2], l: usize, w: f32) -> [u8; 3] {
+        match *self {
+            Paint::Flat(c) => c,
             Paint::Texture { chain, factor } => {
-                let s = chain.sample_with(srgb.table, uv, lod);
+                let s = chain.sample_level(srgb.table, uv, l, w);
                 [srgb.encode(s[0] * factor[0]), srgb.encode(s[1] * factor[1]), srgb.encode(s[2] * factor[2])]
             }
         }
@@ -267,7 +282,18 @@ pub(crate) fn sample_bilinear_with(lut: &[f32; 512], t: &Texture, uv: [f32; 2]) 
     let (i, j) = (floor_i32(x), floor_i32(y));
     let (fx, fy) = (x - i as f32, y - j as f32);
     // Inside the image (the common case) no wrapping is needed.
-    let wrap = |m: Wrap, i: i32, n: i32| if i >= 0 && i < n - 1 { [i as u32, i as u32 + 1] } else { [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32] };
+    let wrap = |m: Wrap, i: i32, n: i32| {
+        if i >= 0 && i < n - 1 {
+            [i as u32, i as u32 + 1]
+        } else if m == Wrap::Repeat && i < i32::MAX {
+            // A tiled texture's coordinates are mostly outside the image: one remainder (a
+            // mask for a power of two), the next texel after it.
+            let a = if n & (n - 1) == 0 { i & (n - 1) } else { i.rem_euclid(n) };
+            [a as u32, if a + 1 == n { 0 } else { a as u32 + 1 }]
+        } else {
+            [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32]
+        }
+    };
     let (xs, ys) = (wrap(t.wrap_s, i, w), wrap(t.wrap_t, j, h));
     let c = |x: u32, y: u32| {
         let i = (y as usize * t.width as usize + x as usize) * 4;
@@ -310,13 +336,6 @@ impl TrianglePlane {
         TrianglePlane { n, ln: nn.sqrt().max(1e-300), oa, n_oa: dot(n, oa), m1: cross(e2, n).map(|x| x / nn), m2: cross(n, e1).map(|x| x / nn) }
     }
 
-    /// How far along the ray the plane is, in units of the ray direction's length, given
-    /// `denom = n . dir` (infinite or NaN for a ray parallel to the plane).
-    #[inline]
-    pub fn distance(&self, denom: f64) -> f64 {
-        (-self.n_oa / denom).abs()
-    }
-
     /// Barycentric weights (of corners 0, 1, 2) where the ray along `dir` meets the plane,
     /// given `denom = n . dir`; the centroid for a ray parallel to the plane or a degenerate
     /// triangle. Perspective-correct by construction.
@@ -329,6 +348,59 @@ impl TrianglePlane {
             return [1.0 / 3.0; 3];
         }
         [1.0 - b1 - b2, b1, b2]
+    }
+}
+
+impl TrianglePlane {
+    /// The plane along the rays `d0 + x d1` of one image row (`x` the column's offset from the
+    /// principal point over the focal length), for a triangle with texture coordinates `uv`:
+    /// where each ray meets the plane and the texture coordinates there, as affine forms in
+    /// `x` and one division per pixel ([`RowPlane`]).
+    pub fn along(&self, d0: [f64; 3], d1: [f64; 3], uv: &[[f32; 2]; 3]) -> RowPlane {
+        let (p1, p2) = (dot(self.oa, self.m1), dot(self.oa, self.m2));
+        let (q1, q2) = (dot(d0, self.m1), dot(d0, self.m2));
+        let (r1, r2) = (dot(d1, self.m1), dot(d1, self.m2));
+        let uv = uv.map(|c| c.map(|x| x as f64));
+        let tex = std::array::from_fn(|k| {
+            let (d1, d2) = (uv[1][k] - uv[0][k], uv[2][k] - uv[0][k]);
+            [uv[0][k] + p1 * d1 + p2 * d2, q1 * d1 + q2 * d2, r1 * d1 + r2 * d2]
+        });
+        let centroid = std::array::from_fn(|k| (uv[0][k] / 3.0 + uv[1][k] / 3.0 + uv[2][k] / 3.0) as f32);
+        RowPlane { a: dot(self.n, d0), b: dot(self.n, d1), t_num: -self.n_oa, ln: self.ln, tex, centroid }
+    }
+}
+
+/// A triangle's plane along one image row ([`TrianglePlane::along`]): for the ray at column
+/// offset `x`, `n . dir = a + b x`, the ray meets the plane at `t = t_num / (a + b x)` (in
+/// units of the ray direction's length), and the texture coordinates there are
+/// `tex[k][0] + t (tex[k][1] + x tex[k][2])`, the same as the barycentric weights give.
+pub(crate) struct RowPlane {
+    a: f64,
+    b: f64,
+    t_num: f64,
+    /// Length of the plane's (non-unit) normal.
+    pub ln: f64,
+    tex: [[f64; 3]; 2],
+    /// The texture coordinates of the centroid, for a ray parallel to the plane or a
+    /// degenerate triangle.
+    centroid: [f32; 2],
+}
+
+impl RowPlane {
+    /// `n . dir` for the ray at column offset `x`.
+    #[inline(always)]
+    pub fn denom(&self, x: f64) -> f64 {
+        self.a + self.b * x
+    }
+
+    /// How far along the ray at `x` the plane is, in units of the ray direction's length,
+    /// given `denom` ([`RowPlane::denom`]), and the texture coordinates there.
+    #[inline(always)]
+    pub fn hit(&self, x: f64, denom: f64) -> (f64, [f32; 2]) {
+        let t = self.t_num / denom;
+        let uv = [self.tex[0][0] + t * (self.tex[0][1] + x * self.tex[0][2]), self.tex[1][0] + t * (self.tex[1][1] + x * self.tex[1][2])];
+        let uv = if uv[0].is_finite() && uv[1].is_finite() { uv.map(|c| c as f32) } else { self.centroid };
+        (t.abs(), uv)
     }
 }
 

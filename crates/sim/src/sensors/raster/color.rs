@@ -7,8 +7,8 @@
 use super::depth::depth_of;
 use super::{span, RasterScene, Setup, Target, View, MERGE_ROWS};
 use crate::sensors::camera::CameraParams;
-use crate::sensors::mipmap::{footprint, level_of_detail};
-use crate::sensors::surface::{dot, shade, texture_uv, Paint, Srgb, TrianglePlane};
+use crate::sensors::mipmap::{footprint, level_and_weight};
+use crate::sensors::surface::{shade, Paint, Srgb, TrianglePlane};
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
 
@@ -79,10 +79,12 @@ impl RasterScene {
         let w = cam.width;
         let xs: Vec<f64> = (0..w).map(|u| (u as f64 - k.cx) / k.fx).collect();
         let srgb = Srgb::get();
-        // Per run of pixels that see one triangle: its plane and how it is painted, then each
-        // pixel's ray, where it meets the plane, and its colour.
+        // Per run of pixels that see one triangle: its plane along the row and how it is
+        // painted, then per pixel one division for where its ray meets the plane.
         data.par_chunks_mut(w * 3).enumerate().for_each(|(v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
+            // The ray through column offset x is d0 + x d1, of length sqrt(1 + x^2 + y^2).
+            let (d0, d1) = ([c, s, -y], [s, -c, 0.0]);
             let (ids, depth) = (&ids[v * w..(v + 1) * w], &depth.data[v * w..(v + 1) * w]);
             let mut u = 0;
             while u < w {
@@ -92,23 +94,23 @@ impl RasterScene {
                     u = end;
                     continue;
                 }
-                let t = TrianglePlane::new(&self.tris[id as usize].v, origin);
                 let surf = &self.surf[id as usize];
+                let rp = TrianglePlane::new(&self.tris[id as usize].v, origin).along(d0, d1, &surf.uv);
                 let paint = self.surfaces.paint(surf);
                 for (px, (&x, &d)) in (u..end).zip(xs[u..end].iter().zip(&depth[u..end])) {
                     if d == 0.0 {
                         continue;
                     }
-                    let dir = [c + x * s, s - x * c, -y];
-                    let denom = dot(t.n, dir);
-                    let len = dot(dir, dir).sqrt();
-                    let cos = (denom / (t.ln * len)).abs();
+                    let denom = rp.denom(x);
+                    let len = (1.0 + x * x + y * y).sqrt();
+                    let cos = (denom / (rp.ln * len)).abs();
                     let color = match paint {
                         Paint::Flat(col) => col,
                         Paint::Texture { chain, .. } => {
-                            let fp = footprint((t.distance(denom) * len) as f32, pixel_angle, cos as f32);
-                            let uv = texture_uv(surf, t.barycentric(dir, denom));
-                            paint.textured(srgb, uv, level_of_detail(fp, surf.texel_scale, chain.levels.len()))
+                            let (t, uv) = rp.hit(x, denom);
+                            let fp = footprint((t * len) as f32, pixel_angle, cos as f32);
+                            let (l, wt) = level_and_weight(fp, surf.texel_scale, chain.levels.len());
+                            paint.at_level(srgb, uv, l, wt)
                         }
                     };
                     row[px * 3..px * 3 + 3].copy_from_slice(&shade(color, cos));
