@@ -73,22 +73,19 @@ fn main() {
             let worst = (0..n).map(px).max().unwrap_or(0);
             println!("{path}: against {f}: {:.4}% of pixels identical, {:.4}% within a byte, worst {worst}", 100.0 * same as f64 / n as f64, 100.0 * within1 as f64 / n as f64);
         }
-        let t = Instant::now();
-        let mut n = 0usize;
-        while frames.map_or(t.elapsed().as_secs_f64() < seconds, |f| n < f) {
-            let (p, fz) = views[n % views.len()];
-            std::hint::black_box(rs.render_depth_rgb(p, fz, &cam));
-            n += 1;
-        }
-        println!("{path}: {}x{} depth+RGB frames/s {:.1} ({n} frames)", cam.width, cam.height, n as f64 / t.elapsed().as_secs_f64());
-        let t = Instant::now();
-        let mut n = 0usize;
-        while frames.map_or(t.elapsed().as_secs_f64() < seconds, |f| n < f) {
-            let (p, fz) = views[n % views.len()];
-            std::hint::black_box(rs.render_depth(p, fz, &cam));
-            n += 1;
-        }
-        println!("{path}: {}x{} depth frames/s {:.1} ({n} frames)", cam.width, cam.height, n as f64 / t.elapsed().as_secs_f64());
+        // Frames/s of one kind of render over the views, for `--seconds` or `--frames`.
+        let time = |what: &str, render: &dyn Fn(Pose2, f64)| {
+            let t = Instant::now();
+            let mut n = 0usize;
+            while frames.map_or(t.elapsed().as_secs_f64() < seconds, |f| n < f) {
+                let (p, fz) = views[n % views.len()];
+                render(p, fz);
+                n += 1;
+            }
+            println!("{path}: {}x{} {what} frames/s {:.1} ({n} frames)", cam.width, cam.height, n as f64 / t.elapsed().as_secs_f64());
+        };
+        time("depth+RGB", &|p, fz| drop(std::hint::black_box(rs.render_depth_rgb(p, fz, &cam))));
+        time("depth", &|p, fz| drop(std::hint::black_box(rs.render_depth(p, fz, &cam))));
     }
 }
 

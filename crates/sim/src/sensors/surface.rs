@@ -295,17 +295,16 @@ pub(crate) fn sample_bilinear_with(lut: &[f32; 512], t: &Texture, uv: [f32; 2]) 
         }
     };
     let (xs, ys) = (wrap(t.wrap_s, i, w), wrap(t.wrap_t, j, h));
+    // Four lanes (the fourth unused) so that the blends are one vector operation each.
     let c = |x: u32, y: u32| {
         let i = (y as usize * t.width as usize + x as usize) * 4;
         let p: [u8; 4] = t.rgba[i..i + 4].try_into().unwrap_or_default();
-        [lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]]
+        [lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], 0.0]
     };
     let (c00, c10, c01, c11) = (c(xs[0], ys[0]), c(xs[1], ys[0]), c(xs[0], ys[1]), c(xs[1], ys[1]));
-    std::array::from_fn(|k| {
-        let top = c00[k] * (1.0 - fx) + c10[k] * fx;
-        let bottom = c01[k] * (1.0 - fx) + c11[k] * fx;
-        top * (1.0 - fy) + bottom * fy
-    })
+    let lerp = |a: [f32; 4], b: [f32; 4], f: f32| [a[0] * (1.0 - f) + b[0] * f, a[1] * (1.0 - f) + b[1] * f, a[2] * (1.0 - f) + b[2] * f, a[3] * (1.0 - f) + b[3] * f];
+    let v = lerp(lerp(c00, c10, fx), lerp(c01, c11, fx), fy);
+    [v[0], v[1], v[2]]
 }
 
 /// A triangle's plane seen from a camera origin (world frame, f64), worked out once for the
