@@ -80,12 +80,16 @@ impl RasterScene {
         let xs: Vec<f64> = (0..w).map(|u| (u as f64 - k.cx) / k.fx).collect();
         let srgb = Srgb::get();
         // Per run of pixels that see one triangle: its plane along the row and how it is
-        // painted, then per pixel one division for where its ray meets the plane.
-        data.par_chunks_mut(w * 3).enumerate().for_each(|(v, row)| {
+        // painted, then per pixel one division for where its ray meets the plane. A row's
+        // textured pixels are sampled after its geometry, in a second loop (each loop short
+        // enough for the processor to keep several pixels in flight).
+        data.par_chunks_mut(w * 3).enumerate().for_each_init(RowScratch::default, |sc, (v, row)| {
             let y = (v as f64 - k.cy) / k.fy;
             // The ray through column offset x is d0 + x d1, of length sqrt(1 + x^2 + y^2).
             let (d0, d1) = ([c, s, -y], [s, -c, 0.0]);
             let (ids, depth) = (&ids[v * w..(v + 1) * w], &depth.data[v * w..(v + 1) * w]);
+            sc.runs.clear();
+            sc.texels.clear();
             let mut u = 0;
             while u < w {
                 let id = ids[u];
@@ -97,6 +101,7 @@ impl RasterScene {
                 let surf = &self.surf[id as usize];
                 let rp = TrianglePlane::new(&self.tris[id as usize].v, origin).along(d0, d1, &surf.uv);
                 let paint = self.surfaces.paint(surf);
+                let first = sc.texels.len();
                 for (px, (&x, &d)) in (u..end).zip(xs[u..end].iter().zip(&depth[u..end])) {
                     if d == 0.0 {
                         continue;
@@ -104,20 +109,48 @@ impl RasterScene {
                     let denom = rp.denom(x);
                     let len = (1.0 + x * x + y * y).sqrt();
                     let cos = (denom / (rp.ln * len)).abs();
-                    let color = match paint {
-                        Paint::Flat(col) => col,
+                    match paint {
+                        Paint::Flat(col) => row[px * 3..px * 3 + 3].copy_from_slice(&shade(col, cos)),
                         Paint::Texture { chain, .. } => {
                             let (t, uv) = rp.hit(x, denom);
                             let fp = footprint((t * len) as f32, pixel_angle, cos as f32);
                             let (l, wt) = level_and_weight(fp, surf.texel_scale, chain.levels.len());
-                            paint.at_level(srgb, uv, l, wt)
+                            sc.texels.push(Texel { px: px as u32, l: l as u32, uv, wt, cos });
                         }
-                    };
-                    row[px * 3..px * 3 + 3].copy_from_slice(&shade(color, cos));
+                    }
+                }
+                if let (Paint::Texture { .. }, true) = (paint, sc.texels.len() > first) {
+                    sc.runs.push((paint, sc.texels.len()));
                 }
                 u = end;
+            }
+            let mut from = 0;
+            for &(paint, to) in &sc.runs {
+                for t in &sc.texels[from..to] {
+                    let p = t.px as usize;
+                    row[p * 3..p * 3 + 3].copy_from_slice(&shade(paint.at_level(srgb, t.uv, t.l as usize, t.wt), t.cos));
+                }
+                from = to;
             }
         });
         (depth, data)
     }
+}
+
+/// Where a row's textured pixel samples its texture: column, level and weight of the next
+/// ([`level_and_weight`]), texture coordinates, and the cosine of incidence it is shaded by.
+struct Texel {
+    px: u32,
+    l: u32,
+    uv: [f32; 2],
+    wt: f32,
+    cos: f64,
+}
+
+/// A row's textured pixels and, per run of them on one triangle, its paint and where its
+/// pixels end in `texels`.
+#[derive(Default)]
+struct RowScratch<'a> {
+    runs: Vec<(Paint<'a>, usize)>,
+    texels: Vec<Texel>,
 }
