@@ -18,8 +18,6 @@
 //! byte wherever they see the same triangle.
 
 use super::mipmap::{level_of_detail, next_level_weight, texel_scale, MipChain};
-#[cfg(doc)]
-use super::mipmap::level_and_weight;
 use super::rounding::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
@@ -156,8 +154,8 @@ impl Paint<'_> {
         }
     }
 
-    /// [`Paint::textured`] given the level and weight ([`level_and_weight`]) instead of the
-    /// level of detail.
+    /// [`Paint::textured`] given the level and weight
+    /// ([`level_and_weight`](super::mipmap::level_and_weight)) instead of the level of detail.
     #[inline(always)]
     pub fn at_level(&self, srgb: Srgb, uv: [f32; 2], l: usize, w: f32) -> [u8; 3] {
         match *self {
@@ -348,9 +346,7 @@ impl TrianglePlane {
         }
         [1.0 - b1 - b2, b1, b2]
     }
-}
 
-impl TrianglePlane {
     /// The plane along the rays `d0 + x d1` of one image row (`x` the column's offset from the
     /// principal point over the focal length), for a triangle with texture coordinates `uv`:
     /// where each ray meets the plane and the texture coordinates there, as affine forms in
@@ -364,7 +360,8 @@ impl TrianglePlane {
             let (d1, d2) = (uv[1][k] - uv[0][k], uv[2][k] - uv[0][k]);
             [uv[0][k] + p1 * d1 + p2 * d2, q1 * d1 + q2 * d2, r1 * d1 + r2 * d2]
         });
-        let centroid = std::array::from_fn(|k| (uv[0][k] / 3.0 + uv[1][k] / 3.0 + uv[2][k] / 3.0) as f32);
+        // As the barycentric weights give it: a third of each corner's.
+        let centroid = std::array::from_fn(|k| (uv[0][k] * (1.0 / 3.0) + uv[1][k] * (1.0 / 3.0) + uv[2][k] * (1.0 / 3.0)) as f32);
         RowPlane { a: dot(self.n, d0), b: dot(self.n, d1), t_num: -self.n_oa, ln: self.ln, tex, centroid }
     }
 }
@@ -483,6 +480,37 @@ mod tests {
             let s = if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 } * 255.0;
             if (s - s.floor() - 0.5).abs() > 1e-3 {
                 assert_eq!(linear_to_srgb_byte(x as f32), s.round() as u8, "{x}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_row_plane_gives_the_barycentric_texture_coordinates() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let tri = SurfaceTri { uv: [[0.1, 0.2], [3.5, -0.4], [0.7, 2.9]], material: 0, texel_scale: 1.0 };
+        for _ in 0..2000 {
+            let mut p = || [rng.gen_range(-3.0..3.0f32), rng.gen_range(-3.0..3.0f32), rng.gen_range(-0.5..2.5f32)];
+            let v = [p(), p(), p()];
+            let origin = [0.3, -0.2, 0.9];
+            let (yaw, y): (f64, f64) = (rng.gen_range(-3.2..3.2), rng.gen_range(-1.0..1.0));
+            let (s, c) = yaw.sin_cos();
+            let (d0, d1) = ([c, s, -y], [s, -c, 0.0]);
+            let plane = TrianglePlane::new(&v, origin);
+            let row = plane.along(d0, d1, &tri.uv);
+            for x in [-1.0, -0.37, 0.0, 0.21, 1.0] {
+                let dir = [c + x * s, s - x * c, -y];
+                let denom = dot(plane.n, dir);
+                if denom.abs() < 1e-6 {
+                    continue;
+                }
+                assert!((row.denom(x) - denom).abs() <= 1e-9 * denom.abs().max(plane.ln), "{} {denom}", row.denom(x));
+                let want = texture_uv(&tri, plane.barycentric(dir, denom));
+                let (t, got) = row.hit(x, denom);
+                assert!((t - (-plane.n_oa / denom).abs()).abs() <= 1e-12 * t.max(1.0), "{t}");
+                // Far-off planes magnify rounding in both; compare relative to the hit's reach.
+                let tol = 1e-5 * (1.0 + t as f32) * (1.0 + want[0].abs().max(want[1].abs()));
+                assert!((got[0] - want[0]).abs() <= tol && (got[1] - want[1]).abs() <= tol, "{got:?} {want:?}");
             }
         }
     }
