@@ -38,6 +38,9 @@ impl Wrap {
     #[inline(always)]
     pub fn apply(self, i: i32, n: i32) -> i32 {
         match self {
+            // A mask for a power of two (most textures; a tiled floor's coordinates are mostly
+            // outside the image, so the sampler comes here at every texel).
+            Wrap::Repeat if n & (n - 1) == 0 => i & (n - 1),
             Wrap::Repeat => i.rem_euclid(n),
             Wrap::ClampToEdge => i.clamp(0, n - 1),
             Wrap::MirroredRepeat => {

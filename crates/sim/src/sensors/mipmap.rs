@@ -59,14 +59,8 @@ impl MipChain {
     /// blended when the fraction is within [`BLEND`] of one half (see the module).
     #[inline]
     pub fn sample(&self, uv: [f32; 2], lod: f32) -> [f32; 3] {
-        self.sample_with(srgb_table(), uv, lod)
-    }
-
-    /// [`MipChain::sample`] with the decoding table `lut` ([`srgb_table`]) at hand.
-    #[inline]
-    pub(crate) fn sample_with(&self, lut: &[f32; 512], uv: [f32; 2], lod: f32) -> [f32; 3] {
-        let l = (lod as usize).min(self.levels.len() - 1);
-        self.sample_level(lut, uv, l, next_level_weight(lod - l as f32))
+        let (l, w) = level_weight(lod, self.levels.len());
+        self.sample_level(srgb_table(), uv, l, w)
     }
 
     /// [`MipChain::sample`] given the level `l` and the weight `w` of level `l + 1` that a
@@ -82,6 +76,14 @@ impl MipChain {
             _ => sample_bilinear_with(lut, &self.levels[l], uv),
         }
     }
+}
+
+/// The level `l` a level of detail `lod` (in `[0, levels - 1]`) reads and the weight of
+/// level `l + 1` ([`next_level_weight`]), for a pyramid of `levels` levels.
+#[inline]
+pub fn level_weight(lod: f32, levels: usize) -> (usize, f32) {
+    let l = (lod as usize).min(levels.saturating_sub(1));
+    (l, next_level_weight(lod - l as f32))
 }
 
 /// The weight of level `l + 1` for a level of detail `l + f`: 0 up to `(1 - BLEND) / 2`, 1
@@ -171,19 +173,14 @@ pub fn level_of_detail(footprint: f32, scale: f32, levels: usize) -> f32 {
 #[inline]
 pub fn level_and_weight(footprint: f32, scale: f32, levels: usize) -> (usize, f32) {
     let texels = footprint * scale;
-    if !(texels > 1.0) {
-        return (0, next_level_weight(0.0));
+    let slow = || level_weight(level_of_detail(footprint, scale, levels), levels);
+    if !(texels > 1.0 && texels.is_finite()) {
+        return slow();
     }
-    let top = levels.saturating_sub(1);
     // `log2` is exact at powers of two and increasing, so a footprint of 2^e texels or more
     // reads at least level e.
     let e = ((texels.to_bits() >> 23) & 0xff) as usize - 127;
-    let slow = || {
-        let lod = level_of_detail(footprint, scale, levels);
-        let l = (lod as usize).min(top);
-        (l, next_level_weight(lod - l as f32))
-    };
-    if e >= top || !texels.is_finite() {
+    if e >= levels.saturating_sub(1) {
         return slow();
     }
     // The mantissa as 1 + m in [1, 2): below 2^(3/8) (less a margin far wider than log2's
@@ -201,9 +198,11 @@ pub fn level_and_weight(footprint: f32, scale: f32, levels: usize) -> (usize, f3
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::scene::Wrap;
+
     #[test]
     fn level_and_weight_reads_what_the_level_of_detail_reads() {
-        use super::{level_and_weight, level_of_detail, next_level_weight};
         // The level read: l + 1 when the weight is 1, else l with the weight.
         let read = |(l, w): (usize, f32)| if w >= 1.0 { (l + 1, 0.0) } else { (l, w) };
         let mut x = 0.3f32;
@@ -223,9 +222,6 @@ mod tests {
             x = f32::from_bits(x.to_bits() + 997);
         }
     }
-
-    use super::*;
-    use crate::scene::Wrap;
 
     fn tex(w: u32, h: u32, f: impl Fn(u32, u32) -> u8) -> Texture {
         let rgba = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).flat_map(|(x, y)| {

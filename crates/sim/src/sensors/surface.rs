@@ -17,7 +17,7 @@
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
 
-use super::mipmap::{level_of_detail, next_level_weight, texel_scale, MipChain};
+use super::mipmap::{level_of_detail, level_weight, texel_scale, MipChain};
 use super::rounding::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
@@ -90,32 +90,9 @@ impl Surfaces {
     /// the surface is `footprint` metres ([`super::mipmap::footprint`]).
     #[inline]
     pub fn color(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> [u8; 3] {
-        self.resolve(&self.lookup(t, bary, footprint))
-    }
-
-    /// The first half of [`Surfaces::color`]: the flat colour, or where to sample which
-    /// texture. A renderer may work this out for a run of pixels and [`Surfaces::resolve`]
-    /// them after, so that each loop is short (same bytes as `color`).
-    #[inline]
-    pub fn lookup(&self, t: &SurfaceTri, bary: impl FnOnce() -> [f64; 3], footprint: f32) -> Lookup {
         match self.paint(t) {
-            Paint::Flat(c) => Lookup::Flat(c),
-            Paint::Texture { chain, .. } => {
-                Lookup::Texture { material: t.material, uv: texture_uv(t, bary()), lod: level_of_detail(footprint, t.texel_scale, chain.levels.len()) }
-            }
-        }
-    }
-
-    /// The second half of [`Surfaces::color`]: the colour a [`Surfaces::lookup`] stands for.
-    #[inline]
-    pub fn resolve(&self, l: &Lookup) -> [u8; 3] {
-        match *l {
-            Lookup::Flat(c) => c,
-            Lookup::Texture { material, uv, lod } => {
-                let m = &self.materials[material as usize];
-                let tex = &self.textures[m.texture.unwrap_or_default() as usize];
-                Paint::Texture { chain: tex, factor: m.factor }.textured(Srgb::get(), uv, lod)
-            }
+            Paint::Flat(c) => c,
+            paint @ Paint::Texture { chain, .. } => paint.textured(Srgb::get(), texture_uv(t, bary()), level_of_detail(footprint, t.texel_scale, chain.levels.len())),
         }
     }
 
@@ -148,8 +125,8 @@ impl Paint<'_> {
         match *self {
             Paint::Flat(c) => c,
             Paint::Texture { chain, .. } => {
-                let l = (lod as usize).min(chain.levels.len() - 1);
-                self.at_level(srgb, uv, l, next_level_weight(lod - l as f32))
+                let (l, w) = level_weight(lod, chain.levels.len());
+                self.at_level(srgb, uv, l, w)
             }
         }
     }
@@ -172,17 +149,6 @@ impl Paint<'_> {
 #[inline(always)]
 pub(crate) fn texture_uv(t: &SurfaceTri, bary: [f64; 3]) -> [f32; 2] {
     std::array::from_fn(|k| (bary[0] * t.uv[0][k] as f64 + bary[1] * t.uv[1][k] as f64 + bary[2] * t.uv[2][k] as f64) as f32)
-}
-
-/// What the colour of a surface point needs once its triangle is known
-/// ([`Surfaces::lookup`]).
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Lookup {
-    /// An untextured material's colour (sRGB bytes).
-    Flat([u8; 3]),
-    /// A textured material (index in [`Surfaces::materials`], which has a texture), sampled
-    /// at texture coordinates `uv` and level of detail `lod`.
-    Texture { material: u32, uv: [f32; 2], lod: f32 },
 }
 
 /// The sRGB tables the renderers share (the GPU reads the same 512 numbers): entries
@@ -280,18 +246,7 @@ pub(crate) fn sample_bilinear_with(lut: &[f32; 512], t: &Texture, uv: [f32; 2]) 
     let (i, j) = (floor_i32(x), floor_i32(y));
     let (fx, fy) = (x - i as f32, y - j as f32);
     // Inside the image (the common case) no wrapping is needed.
-    let wrap = |m: Wrap, i: i32, n: i32| {
-        if i >= 0 && i < n - 1 {
-            [i as u32, i as u32 + 1]
-        } else if m == Wrap::Repeat && i < i32::MAX {
-            // A tiled texture's coordinates are mostly outside the image: one remainder (a
-            // mask for a power of two), the next texel after it.
-            let a = if n & (n - 1) == 0 { i & (n - 1) } else { i.rem_euclid(n) };
-            [a as u32, if a + 1 == n { 0 } else { a as u32 + 1 }]
-        } else {
-            [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32]
-        }
-    };
+    let wrap = |m: Wrap, i: i32, n: i32| if i >= 0 && i < n - 1 { [i as u32, i as u32 + 1] } else { [m.apply(i, n) as u32, m.apply(i.saturating_add(1), n) as u32] };
     let (xs, ys) = (wrap(t.wrap_s, i, w), wrap(t.wrap_t, j, h));
     // Four lanes (the fourth unused) so that the blends are one vector operation each.
     let c = |x: u32, y: u32| {

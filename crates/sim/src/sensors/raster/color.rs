@@ -119,7 +119,7 @@ impl RasterScene {
                         }
                     }
                 }
-                if let (Paint::Texture { .. }, true) = (paint, sc.texels.len() > first) {
+                if sc.texels.len() > first {
                     sc.runs.push((paint, sc.texels.len()));
                 }
                 u = end;
