@@ -4,11 +4,11 @@
 //!
 //! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
 //! [--pairs M]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
-//! `../shared`, 5 runs, no pairs). Prints each phase's
-//! best time over the runs (ms), with the grid's size and the graph's nodes and legs; with
-//! `--pairs`, also the rate of M cold pair queries between seeded random navigable points
-//! (this thread) and a hash of their distances' bits, to tell whether a change to the graph
-//! changed any answer.
+//! `../shared`, 5 runs, no pairs). Prints each phase's best time over the runs (ms), with the
+//! grid's size, the graph's nodes and legs, and a hash of the grid's cells; with `--pairs`,
+//! also the rate of M cold pair queries between seeded random navigable points (this thread)
+//! and a hash of their distances' bits. The hashes tell whether a change to the build changed
+//! the grid or any answer.
 
 use rand::SeedableRng;
 use std::path::Path;
@@ -72,7 +72,7 @@ fn main() {
             for (b, v) in best.iter_mut().zip([t1, t2 - t1, t3 - t2]) {
                 *b = b.min(v);
             }
-            sizes = format!("grid {:?} cells, graph {} nodes / {} legs", grid.size(), graph.len(), graph.leg_count());
+            sizes = format!("grid {:?} cells, graph {} nodes / {} legs, grid hash {:016x}", grid.size(), graph.len(), graph.leg_count(), grid_hash(&grid));
             if run + 1 == runs.max(1) && pairs > 0 {
                 // On the last run's grid and graph.
                 pair_line = pair_queries(&grid, pairs);
@@ -83,6 +83,22 @@ fn main() {
             println!("{pair_line}");
         }
     }
+}
+
+/// A hash of every cell's clearance bits and island (as `clearance_at` and `island_at` read
+/// them at the cell's centre), to tell whether a change to the build changed the grid.
+fn grid_hash(grid: &NavGrid) -> u64 {
+    let ((w, h), res, o) = (grid.size(), grid.resolution(), grid.origin());
+    let mut hash = 0xcbf2_9ce4_8422_2325u64;
+    for r in 0..h {
+        for c in 0..w {
+            let p = Point2::new(o.x + (c as f64 + 0.5) * res, o.y + (r as f64 + 0.5) * res);
+            for v in [grid.clearance_at(p).to_bits(), grid.island_at(p).map_or(u64::MAX, |i| i as u64)] {
+                hash = (hash ^ v).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+    }
+    hash
 }
 
 /// `pairs` cold pair queries between seeded random navigable points of `grid`, on this thread:

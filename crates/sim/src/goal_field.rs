@@ -102,7 +102,7 @@ impl GoalField {
                 continue;
             }
             done[k] = true;
-            for &(b, l) in graph.legs(k) {
+            for (b, l) in graph.legs(k) {
                 let b = b as usize;
                 let nd = dist[k] + l;
                 if !done[b] && nd < dist[b] {

@@ -51,9 +51,11 @@ pub struct CornerGraph {
     taut: Vec<f64>,
     /// Island of each node.
     island: Vec<u32>,
-    /// Legs: those of node k are `legs[start[k]..start[k + 1]]` (other node, length in m).
+    /// Legs: those of node k are `leg_to[start[k]..start[k + 1]]` (the other node) and
+    /// `leg_len` there (m), in the other node's order.
     start: Vec<u32>,
-    legs: Vec<(u32, f64)>,
+    leg_to: Vec<u32>,
+    leg_len: Vec<f64>,
     /// The nodes by square of [`BUCKET_M`]: each non-empty square's bounds (m: x min, y min,
     /// x max, y max) and its nodes, `bucket_nodes[bucket_start[b]..bucket_start[b + 1]]`, in
     /// node order; a query seeds a square's nodes only when its search gets that far.
@@ -81,7 +83,8 @@ impl CornerGraph {
             taut: Vec::with_capacity(cells.len()),
             island: cells.iter().map(|&i| grid.island_of[i]).collect(),
             start: Vec::new(),
-            legs: Vec::new(),
+            leg_to: Vec::new(),
+            leg_len: Vec::new(),
             bucket_rect: Vec::new(),
             bucket_start: Vec::new(),
             bucket_nodes: Vec::new(),
@@ -153,8 +156,9 @@ impl CornerGraph {
         g.start.push(0);
         for list in &mut adj {
             list.sort_by_key(|e| e.0);
-            g.legs.extend_from_slice(list);
-            g.start.push(g.legs.len() as u32);
+            g.leg_to.extend(list.iter().map(|e| e.0));
+            g.leg_len.extend(list.iter().map(|e| e.1));
+            g.start.push(g.leg_to.len() as u32);
         }
         g.fill_buckets();
         g
@@ -197,7 +201,7 @@ impl CornerGraph {
 
     /// Number of legs (each counted once).
     pub fn leg_count(&self) -> usize {
-        self.legs.len() / 2
+        self.leg_to.len() / 2
     }
 
     /// Position of node `k` (m).
@@ -211,8 +215,9 @@ impl CornerGraph {
     }
 
     /// The legs of node `k`: (other node, length in m).
-    pub(crate) fn legs(&self, k: usize) -> &[(u32, f64)] {
-        &self.legs[self.start[k] as usize..self.start[k + 1] as usize]
+    pub(crate) fn legs(&self, k: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
+        let (lo, hi) = (self.start[k] as usize, self.start[k + 1] as usize);
+        self.leg_to[lo..hi].iter().copied().zip(self.leg_len[lo..hi].iter().copied())
     }
 
     /// Whether a leg leaving node `k` along unit direction `u` can be part of a taut path.
@@ -271,53 +276,56 @@ impl CornerGraph {
         SCRATCH.with(|sc| {
             let mut sc = sc.borrow_mut();
             sc.reset(self.len());
-            let Scratch { dist, done, heap } = &mut *sc;
-            // Entries: (key bits, 0 for a square of nodes or 1 for a node, square or node,
-            // whether the node's leg from `to` is still unverified). A square's key is a lower
-            // bound (less a nanometre, for rounding) of its nodes' seed keys, so it is taken
-            // before any of them would have been: the nodes come in the order they would have
-            // come had every seed been pushed at the start. The squares are heapified at once.
+            let Scratch { dist, heap } = &mut *sc;
+            // Entries: (key bits, tag), the tag `b` for square `b` of nodes, else [`NODE`] |
+            // node `k` shifted left by one, its low bit set while the node's leg from `to` is
+            // still unverified (a seed). The order is the key's, then squares before nodes,
+            // then by node, then reached nodes before seeds. A square's key is a lower bound
+            // (less a nanometre, for rounding) of its nodes' seed keys, so it is taken before
+            // any of them would have been: the nodes come in the order they would have come
+            // had every seed been pushed at the start. The squares are heapified at once.
             let mut seeds = std::mem::take(heap).into_vec();
             let direct = dist2(g, s);
             seeds.extend(self.bucket_rect.iter().enumerate().map(|(b, r)| {
                 let bound = (rect_dist(r, g) + rect_dist(r, s)).max(direct) - 1e-9;
-                Reverse((bound.max(0.0).to_bits(), 0u8, b as u32, false))
+                Reverse((bound.max(0.0).to_bits(), b as u32))
             }));
             *heap = BinaryHeap::from(seeds);
-            while let Some(Reverse((key, kind, k, seed))) = heap.pop() {
-                if kind == 0 {
-                    let b = k as usize;
+            while let Some(Reverse((key, tag))) = heap.pop() {
+                if tag < NODE {
+                    let b = tag as usize;
                     for &k in &self.bucket_nodes[self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize] {
                         if self.island[k as usize] == ia {
                             let a = self.pos[k as usize];
-                            heap.push(Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), 1, k, true)));
+                            heap.push(Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), NODE | k << 1 | 1)));
                         }
                     }
                     continue;
                 }
-                let k = k as usize;
-                if done[k] {
+                let k = ((tag & !NODE) >> 1) as usize;
+                // Settled nodes read minus infinity (so that no leg improves them).
+                let mut dk = dist[k];
+                if dk == f64::NEG_INFINITY {
                     continue;
                 }
                 let a = self.pos[k];
-                if seed {
+                if tag & 1 == 1 {
                     if !self.joins(grid, k, g, eg) {
                         continue;
                     }
-                    dist[k] = dist[k].min(dist2(g, a));
-                } else if f64::from_bits(key) > dist[k] + dist2(a, s) + 1e-12 {
+                    dk = dk.min(dist2(g, a));
+                } else if f64::from_bits(key) > dk + dist2(a, s) + 1e-12 {
                     continue;
                 }
-                done[k] = true;
+                dist[k] = f64::NEG_INFINITY;
                 if self.joins(grid, k, c, es) {
-                    return dist[k] + dist2(a, s);
+                    return dk + dist2(a, s);
                 }
-                for &(b, l) in self.legs(k) {
-                    let b = b as usize;
-                    let nd = dist[k] + l;
-                    if !done[b] && nd < dist[b] {
-                        dist[b] = nd;
-                        heap.push(Reverse(((nd + dist2(self.pos[b], s)).to_bits(), 1, b as u32, false)));
+                for (b, l) in self.legs(k) {
+                    let nd = dk + l;
+                    if nd < dist[b as usize] {
+                        dist[b as usize] = nd;
+                        heap.push(Reverse(((nd + dist2(self.pos[b as usize], s)).to_bits(), NODE | b << 1)));
                     }
                 }
             }
@@ -326,20 +334,22 @@ impl CornerGraph {
     }
 }
 
-/// Reusable per-thread search arrays.
+/// The tag bit of a node's heap entry in [`CornerGraph::distance`]'s search (a square's tag
+/// is its index, below it).
+const NODE: u32 = 1 << 31;
+
+/// Reusable per-thread search arrays: the distance from the goal so far per node (minus
+/// infinity once settled) and the heap.
 #[derive(Default)]
 struct Scratch {
     dist: Vec<f64>,
-    done: Vec<bool>,
-    heap: BinaryHeap<Reverse<(u64, u8, u32, bool)>>,
+    heap: BinaryHeap<Reverse<(u64, u32)>>,
 }
 
 impl Scratch {
     fn reset(&mut self, n: usize) {
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
-        self.done.clear();
-        self.done.resize(n, false);
         self.heap.clear();
     }
 }
