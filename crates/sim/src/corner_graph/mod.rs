@@ -30,6 +30,8 @@ use std::collections::BinaryHeap;
 use xhab_types::Point2;
 
 mod passages;
+#[cfg(test)]
+mod route_probe;
 
 /// Largest cosine between a leg and a node's outward normal for the leg to be taut there,
 /// when the normal comes from the exact obstacle segments (bend points one cell apart on an arc
@@ -534,3 +536,4 @@ mod tests {
     }
 
 }
+

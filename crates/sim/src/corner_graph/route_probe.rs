@@ -1,0 +1,121 @@
+//! A measurement, not a check: what the all-pairs route to cold pair queries would cost on the
+//! shared houses (issue 17's suggestion: every pair of corner-graph nodes' distances
+//! precomputed, and a query the minimum over the nodes its two ends see). Prints the table's
+//! build time and size, how many nodes a cell centre joins and what finding them costs, and the
+//! table query's time against [`CornerGraph::distance`]'s on pairs of cell centres, with the
+//! largest relative difference (it asserts only that both agree on which pairs are reachable).
+//!
+//! `cargo test --release -p xhab-sim --lib route_probe -- --ignored --nocapture`
+
+use super::*;
+use std::time::Instant;
+
+#[test]
+#[ignore]
+fn route_probe() {
+    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+    for scene in ["turtlebot3_house.glb", "aws_small_house.glb"] {
+        let path = format!("{data}/scenes/{scene}");
+        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
+            eprintln!("route_probe: SKIPPED {scene}: cannot load {path}");
+            continue;
+        };
+        let w = crate::world::World::new(s, Default::default());
+        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let g = grid.corner_graph().clone();
+        let n = g.len();
+        // 1. All pairs: Dijkstra from every node.
+        let t = Instant::now();
+        let table: Vec<Vec<f32>> = (0..n)
+            .into_par_iter()
+            .map(|src| {
+                let mut d = vec![f64::INFINITY; n];
+                let mut heap = BinaryHeap::new();
+                d[src] = 0.0;
+                heap.push(Reverse((0u64, src as u32)));
+                while let Some(Reverse((k, a))) = heap.pop() {
+                    let a = a as usize;
+                    if f64::from_bits(k) > d[a] {
+                        continue;
+                    }
+                    for (b, l) in g.legs(a) {
+                        let nd = d[a] + l;
+                        if nd < d[b as usize] {
+                            d[b as usize] = nd;
+                            heap.push(Reverse((nd.to_bits(), b)));
+                        }
+                    }
+                }
+                d.into_iter().map(|v| v as f32).collect()
+            })
+            .collect();
+        let apsp = t.elapsed().as_secs_f64();
+        // 2. The nodes each navigable cell's centre joins, on a sample of cells.
+        let cells = grid.cells_on_islands(0.0);
+        let sample: Vec<usize> = cells.iter().copied().step_by(37).collect();
+        let t = Instant::now();
+        let seen: Vec<Vec<u32>> = sample
+            .par_iter()
+            .map(|&i| {
+                let c = grid.center(i);
+                (0..n).filter(|&k| g.island(k) == grid.island_of[i] && g.joins(&grid, k, c, LOS_EPS)).map(|k| k as u32).collect()
+            })
+            .collect();
+        let vis_s = t.elapsed().as_secs_f64();
+        let mean = seen.iter().map(|v| v.len()).sum::<usize>() as f64 / seen.len() as f64;
+        let most = seen.iter().map(|v| v.len()).max().unwrap_or(0);
+        // 3. Queries between sampled cells: min over the pairs of seen nodes, against distance().
+        let m = sample.len();
+        let pairs: Vec<(usize, usize)> = (0..4000).map(|q| ((q * 7919) % m, (q * 104729 + 13) % m)).collect();
+        let t = Instant::now();
+            let answers: Vec<f64> = pairs
+            .iter()
+            .map(|&(x, y)| {
+                let (ps, pg) = (grid.center(sample[x]), grid.center(sample[y]));
+                if grid.island_of[sample[x]] != grid.island_of[sample[y]] {
+                    return f64::INFINITY;
+                }
+                if segment_clear(&grid, ps, pg, LOS_EPS) {
+                    return dist2(ps, pg);
+                }
+                let dg: Vec<(usize, f32)> = seen[y].iter().map(|&b| (b as usize, dist2(g.pos(b as usize), pg) as f32)).collect();
+                let mut best = f32::INFINITY;
+                for &a in &seen[x] {
+                    let row = &table[a as usize];
+                    let da = dist2(g.pos(a as usize), ps) as f32;
+                    for &(b, db) in &dg {
+                        best = best.min(da + row[b] + db);
+                    }
+                }
+                best as f64
+            })
+            .collect();
+        let q_s = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let (mut worst, mut finite) = (0.0f64, 0);
+        for (&(x, y), &a) in pairs.iter().zip(&answers) {
+            let (ps, pg) = (grid.center(sample[x]), grid.center(sample[y]));
+            let want = g.distance(&grid, xhab_types::Point2::new(ps[0], ps[1]), xhab_types::Point2::new(pg[0], pg[1]));
+            std::hint::black_box(want);
+            if want.is_finite() && a.is_finite() {
+                finite += 1;
+                worst = worst.max((a - want).abs() / want.max(1.0));
+            } else {
+                assert_eq!(want.is_finite(), a.is_finite());
+            }
+        }
+        let old_s = t.elapsed().as_secs_f64();
+        eprintln!(
+            "{scene}: {n} nodes; all pairs {:.1} ms ({:.1} MB as f32); nodes a cell centre joins: mean {mean:.0}, most {most}, {:.1} us of one thread per cell -> {:.0} ms for all {} cells on one thread ({:.0} ms on {} threads); table queries {:.2} us each vs the search's {:.1} us; worst relative difference {worst:.2e} over {finite} pairs",
+            apsp * 1e3,
+            (n * n * 4) as f64 / 1e6,
+            vis_s / sample.len() as f64 * 1e6 * rayon::current_num_threads() as f64,
+            vis_s / sample.len() as f64 * cells.len() as f64 * 1e3 * rayon::current_num_threads() as f64,
+            cells.len(),
+            vis_s / sample.len() as f64 * cells.len() as f64 * 1e3,
+            rayon::current_num_threads(),
+            q_s / pairs.len() as f64 * 1e6,
+            old_s / pairs.len() as f64 * 1e6,
+        );
+    }
+}
