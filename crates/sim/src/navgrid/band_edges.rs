@@ -100,34 +100,87 @@ pub(crate) const SIDED_WIDTH: f64 = 1e-4;
 /// module. Kept in a canonical order (by end points), the same for any thread count.
 pub(crate) fn boundary_edges(segs: &[Seg], sides: &[i8]) -> Vec<Seg> {
     use rayon::prelude::*;
-    const Q: f64 = 1e5; // 10 micrometre quantum
-    let q = |p: [f64; 2]| [(p[0] * Q).round() as i64, (p[1] * Q).round() as i64];
-    type Key = ([i64; 2], [i64; 2]);
-    // Each edge's key (its quantised ends, smaller first), its position, and which side of
-    // the key's direction its piece covers (bit 0 left, bit 1 right, none for an upright
-    // piece). Sorted by key and then position, so the first of equal keys came first.
-    let mut keyed: Vec<(Key, u32, u8)> = segs
-        .par_iter()
-        .zip(sides.par_iter())
-        .enumerate()
-        .map(|(i, (s, &side))| {
-            let (a, b) = (q(s[0]), q(s[1]));
-            let covers = match (side, a <= b) {
-                (0, _) => 0,
-                (1, true) | (-1, false) => 1,
-                _ => 2,
-            };
-            (if a <= b { (a, b) } else { (b, a) }, i as u32, covers)
-        })
-        .collect();
-    keyed.par_sort_unstable_by_key(|k| (k.0, k.1));
-    let mut out = Vec::new();
-    for group in keyed.chunk_by(|x, y| x.0 == y.0) {
-        if group.iter().fold(0, |c, k| c | k.2) != 3 {
-            out.push(segs[group[0].1 as usize]);
+    // Each edge's key (its ends quantised to 10 micrometres, smaller first), its position, and
+    // which side of the key's direction its piece covers (bit 0 left, bit 1 right, none for an
+    // upright piece). Sorted by key and then position, so the first of equal keys came first.
+    let keyed = |i: usize| {
+        let (s, side) = (&segs[i], sides[i]);
+        let (a, b) = (quantum(s[0]), quantum(s[1]));
+        let covers = match (side, a <= b) {
+            (0, _) => 0u8,
+            (1, true) | (-1, false) => 1,
+            _ => 2,
+        };
+        (if a <= b { (a, b) } else { (b, a) }, covers)
+    };
+    // Of each group of equal keys, the first edge unless its pieces cover both sides.
+    let kept = |first: usize, covers: u8| (covers != 3).then(|| segs[first]);
+    match packing(segs) {
+        Some(pack) => {
+            // One 128-bit number per edge, in the order of (key, position): the four
+            // coordinates less their minimum, `pack.bits` each, then the position and sides.
+            let mut packed: Vec<u128> = (0..segs.len())
+                .into_par_iter()
+                .map(|i| {
+                    let ((a, b), covers) = keyed(i);
+                    let key = [a[0] - pack.min[0], a[1] - pack.min[1], b[0] - pack.min[0], b[1] - pack.min[1]]
+                        .iter()
+                        .fold(0u128, |k, &v| k << pack.bits | v as u128);
+                    key << pack.low | (i as u128) << 2 | covers as u128
+                })
+                .collect();
+            packed.par_sort_unstable();
+            let index = (1u128 << (pack.low - 2)) - 1;
+            packed.chunk_by(|x, y| x >> pack.low == y >> pack.low).filter_map(|g| kept((g[0] >> 2 & index) as usize, g.iter().fold(0, |c, &k| c | (k & 3) as u8))).collect()
+        }
+        None => {
+            let mut keyed: Vec<_> = (0..segs.len()).into_par_iter().map(|i| (keyed(i), i)).collect();
+            keyed.par_sort_unstable_by_key(|k| (k.0 .0, k.1));
+            keyed.chunk_by(|x, y| x.0 .0 == y.0 .0).filter_map(|g| kept(g[0].1, g.iter().fold(0, |c, k| c | k.0 .1))).collect()
         }
     }
-    out
+}
+
+/// A point's coordinates (m) in units of 10 micrometres, rounded half away from zero as
+/// `f64::round` rounds, without its library call where the fraction `v - trunc(v)` is exact.
+#[inline]
+fn quantum(p: [f64; 2]) -> [i64; 2] {
+    p.map(|x| {
+        let v = x * 1e5;
+        if !(v.abs() < 4e15) {
+            return v.round() as i64;
+        }
+        let t = v as i64;
+        let f = v - t as f64;
+        t + (f >= 0.5) as i64 - (f <= -0.5) as i64
+    })
+}
+
+/// How [`boundary_edges`] packs an edge into one 128-bit number: its key's four quantised
+/// coordinates less the smallest (x and y apart), `bits` bits each, above `low` bits holding
+/// its position and (the lowest two) the sides its piece covers.
+struct Packing {
+    min: [i64; 2],
+    bits: u32,
+    low: u32,
+}
+
+/// The packing of `segs`' keys; `None` when they do not fit 128 bits (a span of 2^26 quanta,
+/// 671 m, fits with up to 2^20 edges).
+fn packing(segs: &[Seg]) -> Option<Packing> {
+    if segs.is_empty() || segs.len() > u32::MAX as usize {
+        return None;
+    }
+    use rayon::prelude::*;
+    let (lo, hi) = segs
+        .par_iter()
+        .flat_map_iter(|s| s.iter().map(|&p| quantum(p)))
+        .fold(|| ([i64::MAX; 2], [i64::MIN; 2]), |(lo, hi), q| ([lo[0].min(q[0]), lo[1].min(q[1])], [hi[0].max(q[0]), hi[1].max(q[1])]))
+        .reduce(|| ([i64::MAX; 2], [i64::MIN; 2]), |(a, b), (c, d)| ([a[0].min(c[0]), a[1].min(c[1])], [b[0].max(d[0]), b[1].max(d[1])]));
+    let span = (hi[0] as i128 - lo[0] as i128).max(hi[1] as i128 - lo[1] as i128);
+    let bits = (128 - (span as u128).leading_zeros()).max(1);
+    let low = 2 + (usize::BITS - (segs.len() - 1).leading_zeros());
+    (4 * bits + low <= 128).then_some(Packing { min: lo, bits, low })
 }
 
 #[cfg(test)]
@@ -179,6 +232,48 @@ mod tests {
         a.sort();
         b.sort();
         assert_eq!(a, b);
+    }
+
+    #[test]
+    fn scenes_too_wide_to_pack_keep_the_same_edges() {
+        // Two tiled tops 100 km apart: a span of 10^10 quanta (34 bits, four times) does not
+        // pack into 128 bits, so the tuples are sorted; each top alone packs. The edges kept
+        // are the same.
+        let shift = |t: [[f64; 3]; 3]| t.map(|p| [p[0] + 1e5, p[1] - 0.37, p[2]]);
+        let (near, far): (Vec<_>, Vec<_>) = (tiled(3), tiled(3).into_iter().map(shift).collect());
+        let both: Vec<_> = near.iter().chain(&far).copied().collect();
+        let (segs, sides) = edges(&both);
+        assert!(packing(&segs).is_none());
+        let (s1, d1) = edges(&near);
+        let (s2, d2) = edges(&far);
+        assert!(packing(&s1).is_some() && packing(&s2).is_some());
+        let mut apart = boundary_edges(&s1, &d1);
+        apart.extend(boundary_edges(&s2, &d2));
+        let kept = boundary_edges(&segs, &sides);
+        assert_eq!(kept.len(), 24);
+        let sorted = |v: &[Seg]| {
+            let mut v: Vec<String> = v.iter().map(|s| format!("{s:?}")).collect();
+            v.sort();
+            v
+        };
+        assert_eq!(sorted(&kept), sorted(&apart));
+    }
+
+    #[test]
+    fn quanta_round_as_the_library_rounds() {
+        let mut xs = vec![0.0, -0.0, 1e-5, 5e-6, -5e-6, 1.5e-5, -2.5e-5, 0.49999999999999994e-5, 123.456785, -123.456785, 4e10, -4e10, 1e11, f64::NAN];
+        let mut k = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..100_000 {
+            k ^= k << 13;
+            k ^= k >> 7;
+            k ^= k << 17;
+            // Random metres, and random multiples of half a quantum (the ties).
+            xs.push((k >> 11) as f64 / (1u64 << 53) as f64 * 400.0 - 200.0);
+            xs.push(((k >> 40) as f64 - 8_388_608.0) * 0.5e-5);
+        }
+        for x in xs {
+            assert_eq!(quantum([x, -x]), [(x * 1e5).round() as i64, (-x * 1e5).round() as i64], "{x}");
+        }
     }
 
     #[test]
