@@ -185,9 +185,12 @@ pub(crate) fn segment_distance_where(
 }
 
 /// Euclidean distance transform: for each cell, the distance (in cells) from its centre to
-/// the nearest centre of a cell where `blocked` is true (exact; infinite when none is).
-pub(crate) fn edt(blocked: &[bool], w: usize, h: usize) -> Vec<f32> {
-    xhab_types::distance_field::edt(blocked, w, h).into_iter().map(|v| v as f32).collect()
+/// the nearest centre of a cell where `blocked` is true, exact up to `sqrt(cap)` (`cap` in
+/// cells^2), infinite beyond it or when none is.
+pub(crate) fn edt(blocked: &[bool], w: usize, h: usize, cap: u32) -> Vec<f32> {
+    let mut d2 = Vec::new();
+    xhab_types::distance_field::squared_edt(w, h, |c, r| blocked[r * w + c], cap, &mut d2);
+    d2.into_iter().map(|v| if v <= cap { (v as f64).sqrt() as f32 } else { f32::INFINITY }).collect()
 }
 
 #[cfg(test)]
@@ -206,7 +209,12 @@ mod tests {
     fn edt_matches_brute_force() {
         let (w, h) = (13, 9);
         let blocked: Vec<bool> = (0..w * h).map(|i| (i * 7919 + 3) % 17 == 0).collect();
-        let d = edt(&blocked, w, h);
+        let d = edt(&blocked, w, h, u32::MAX - 1);
+        // Capped at 5 cells: the same up to it, infinite beyond.
+        let capped = edt(&blocked, w, h, 25);
+        for (a, b) in d.iter().zip(&capped) {
+            assert!(if *a <= 5.0 { a == b } else { b.is_infinite() }, "{a} capped to {b}");
+        }
         for r in 0..h {
             for c in 0..w {
                 let mut best = f64::INFINITY;

@@ -296,7 +296,9 @@ impl NavGrid {
             // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
             (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), Vec::new())
         };
-        let edge = clearance::edt(&no_floor, w, h);
+        // The edge's distance counts only below the segments' (at most `cap`): the transform
+        // is exact to a cell and a half beyond the cap, and infinite past that.
+        let edge = clearance::edt(&no_floor, w, h, (cap / res + 1.5).powi(2).ceil() as u32);
         for i in 0..n {
             if occupied[i] || no_floor[i] {
                 clear[i] = 0.0;
