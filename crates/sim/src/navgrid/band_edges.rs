@@ -165,13 +165,13 @@ struct Packing {
     low: u32,
 }
 
-/// The packing of `segs`' keys; `None` when they do not fit 128 bits (a span of 2^26 quanta,
-/// 671 m, fits with up to 2^20 edges).
+/// The packing of `segs`' keys; `None` when they do not fit 128 bits (a span under 2^26
+/// quanta, 671 m, fits with up to 2^20 edges).
 fn packing(segs: &[Seg]) -> Option<Packing> {
+    use rayon::prelude::*;
     if segs.is_empty() || segs.len() > u32::MAX as usize {
         return None;
     }
-    use rayon::prelude::*;
     let (lo, hi) = segs
         .par_iter()
         .flat_map_iter(|s| s.iter().map(|&p| quantum(p)))
