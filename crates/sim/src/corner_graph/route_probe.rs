@@ -68,7 +68,7 @@ fn route_probe() {
         let m = sample.len();
         let pairs: Vec<(usize, usize)> = (0..4000).map(|q| ((q * 7919) % m, (q * 104729 + 13) % m)).collect();
         let t = Instant::now();
-            let answers: Vec<f64> = pairs
+        let answers: Vec<f64> = pairs
             .iter()
             .map(|&(x, y)| {
                 let (ps, pg) = (grid.center(sample[x]), grid.center(sample[y]));
