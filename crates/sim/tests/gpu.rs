@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use xhab_sim::scene::house::default_house;
 use xhab_sim::scene::Scene;
-use xhab_sim::sensors::{render_depth, CameraParams, GpuError, GpuRenderer, RasterScene, RayScene};
+use xhab_sim::sensors::{render_depth, CameraParams, GpuAdapter, GpuError, GpuRenderer, RasterScene, RayScene, Renderer};
 use xhab_types::{DepthImage, Pose2};
 
 /// The renderer for `scene`, or `None` (after a loud SKIPPED line) when no adapter can be had
@@ -179,4 +179,37 @@ fn gpu_renderer_errors_are_named() {
     assert!(matches!(g.render_depth(Pose2::new(1.0, 1.0, 0.0), 0.0, &bad), Err(GpuError::Camera(_))));
     let huge = CameraParams { width: 1 << 20, ..Default::default() };
     assert!(matches!(g.render_depth(Pose2::new(1.0, 1.0, 0.0), 0.0, &huge), Err(GpuError::Camera(_))));
+}
+
+#[test]
+fn auto_builds_the_gpu_renderer_only_on_a_real_gpu() {
+    let scene = room_with_door();
+    let (r, why) = Renderer::auto(&scene).expect("a renderer");
+    match GpuAdapter::find() {
+        Ok(a) if a.is_software() => {
+            // No device was opened for the software adapter: the rasteriser, and why.
+            assert_eq!(r.name(), "raster", "{why}");
+            assert!(why.contains("only a software adapter") && why.contains(&a.describe()), "{why}");
+        }
+        Ok(a) => {
+            assert_eq!(r.name(), "wgpu", "{why}");
+            assert!(why.contains(&a.describe()), "{why}");
+            // The renderer built on the adapter found beforehand draws what `new` draws.
+            let g = GpuRenderer::with_adapter(&scene, GpuAdapter::find().expect("the same adapter")).expect("renderer");
+            let n = gpu("auto_builds_the_gpu_renderer_only_on_a_real_gpu", &scene).expect("renderer");
+            let cam = CameraParams::default();
+            let pose = Pose2::new(1.0, 1.0, 0.3);
+            assert_eq!(bits(&g.render_depth(pose, 0.0, &cam).unwrap()), bits(&n.render_depth(pose, 0.0, &cam).unwrap()));
+            assert_eq!(g.render_rgb(pose, 0.0, &cam).unwrap(), n.render_rgb(pose, 0.0, &cam).unwrap());
+        }
+        Err(e) => {
+            if std::env::var("XHAB_REQUIRE_GPU").as_deref() == Ok("1") {
+                panic!("XHAB_REQUIRE_GPU=1 but no Vulkan adapter: {e}");
+            }
+            assert_eq!(r.name(), "raster", "{why}");
+            assert!(why.contains("no GPU renderer"), "{why}");
+        }
+    }
+    // An empty scene: no renderer, whatever the adapter.
+    assert!(Renderer::auto(&Scene::default()).is_err());
 }

@@ -35,6 +35,7 @@
 //! between calls; they are reallocated only for a new resolution or batch size.
 
 use super::camera::CameraParams;
+use super::gpu_adapter::{describe, GpuAdapter};
 use super::mipmap::texel_scale;
 use super::surface::{srgb_table, Surfaces};
 use crate::scene::{Scene, Wrap};
@@ -371,17 +372,23 @@ fn block<F: std::future::Future>(f: F) -> F::Output {
     pollster::block_on(f)
 }
 
-/// The adapter's description: name, backend, device type (and driver).
-fn describe(info: &wgpu::AdapterInfo) -> String {
-    let driver = if info.driver.is_empty() { String::new() } else { format!(", driver {} {}", info.driver, info.driver_info) };
-    format!("{} ({:?}, {:?}{driver})", info.name, info.backend, info.device_type)
-}
-
 impl GpuRenderer {
-    /// Finds a Vulkan adapter (a GPU first, else a software one such as llvmpipe; the
-    /// environment variable `XHAB_GPU_ADAPTER` picks one whose name contains it), opens a
-    /// device without a window or surface, uploads the scene and builds the pipelines.
+    /// Finds a Vulkan adapter ([`GpuAdapter::find`]: a GPU first, else a software one such as
+    /// llvmpipe; the environment variable `XHAB_GPU_ADAPTER` picks one whose name contains
+    /// it), opens a device without a window or surface, uploads the scene and builds the
+    /// pipelines.
     pub fn new(scene: &Scene) -> Result<GpuRenderer, GpuError> {
+        GpuRenderer::build(scene, None)
+    }
+
+    /// As [`GpuRenderer::new`], on an adapter already found.
+    pub fn with_adapter(scene: &Scene, adapter: GpuAdapter) -> Result<GpuRenderer, GpuError> {
+        GpuRenderer::build(scene, Some(adapter))
+    }
+
+    /// [`GpuRenderer::new`] on `adapter`, else on the adapter found once the scene is known to
+    /// have triangles (an empty scene needs no device).
+    fn build(scene: &Scene, adapter: Option<GpuAdapter>) -> Result<GpuRenderer, GpuError> {
         // Gather the geometry first: an empty scene needs no device.
         let mut positions: Vec<[f32; 3]> = Vec::new();
         // Triangles: corner indices into `positions` and their colour attributes.
@@ -427,25 +434,10 @@ impl GpuRenderer {
             }
         }
 
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::VULKAN,
-            ..wgpu::InstanceDescriptor::new_without_display_handle()
-        });
-        let mut adapters = block(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-        if let Ok(want) = std::env::var("XHAB_GPU_ADAPTER") {
-            let want = want.to_lowercase();
-            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&want));
-        }
-        let rank = |t: wgpu::DeviceType| match t {
-            wgpu::DeviceType::DiscreteGpu => 0,
-            wgpu::DeviceType::IntegratedGpu => 1,
-            wgpu::DeviceType::VirtualGpu => 2,
-            wgpu::DeviceType::Other => 3,
-            wgpu::DeviceType::Cpu => 4,
+        let GpuAdapter { adapter, info } = match adapter {
+            Some(a) => a,
+            None => GpuAdapter::find()?,
         };
-        adapters.sort_by_key(|a| rank(a.get_info().device_type));
-        let adapter = adapters.into_iter().next().ok_or(GpuError::NoAdapter)?;
-        let info = adapter.get_info();
         let limits = adapter.limits();
         let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         if texel_bytes.len() as u64 > limit {

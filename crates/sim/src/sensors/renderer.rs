@@ -2,6 +2,8 @@
 //! rasteriser and wgpu (Vulkan, headless); commands pick one with `--renderer`.
 
 use super::camera::{render_depth, render_rgb, CameraParams};
+use super::gpu::GpuRenderer;
+use super::gpu_adapter::GpuAdapter;
 use super::raster::RasterScene;
 use super::raycast::RayScene;
 use crate::scene::Scene;
@@ -39,7 +41,7 @@ pub enum Renderer {
     /// Rasterising.
     Raster(RasterScene),
     /// wgpu.
-    Wgpu(super::gpu::GpuRenderer),
+    Wgpu(GpuRenderer),
 }
 
 impl std::fmt::Debug for Renderer {
@@ -54,20 +56,26 @@ impl Renderer {
         Ok(match kind {
             RendererKind::Raycast => Renderer::Raycast(RayScene::new(scene).ok_or(RenderError::EmptyScene)?),
             RendererKind::Raster => Renderer::Raster(RasterScene::new(scene).ok_or(RenderError::EmptyScene)?),
-            RendererKind::Wgpu => Renderer::Wgpu(super::gpu::GpuRenderer::new(scene)?),
+            RendererKind::Wgpu => Renderer::Wgpu(GpuRenderer::new(scene)?),
         })
     }
 
     /// The fastest renderer here: wgpu on a real GPU, else the CPU rasteriser (which beats
     /// Mesa's software Vulkan driver on CPU). Also says why, for the log line.
+    /// The adapter is looked at before anything is built, so that without a GPU no time goes
+    /// to a software device that would be dropped.
     pub fn auto(scene: &Scene) -> Result<(Renderer, String), RenderError> {
-        match super::gpu::GpuRenderer::new(scene) {
-            Ok(g) if !g.is_software() => {
-                let why = format!("GPU adapter {}", g.adapter_info());
-                Ok((Renderer::Wgpu(g), why))
-            }
-            Ok(g) => Ok((Renderer::new(RendererKind::Raster, scene)?, format!("only a software adapter ({}): the CPU rasteriser is faster", g.adapter_info()))),
-            Err(e) => Ok((Renderer::new(RendererKind::Raster, scene)?, format!("no GPU renderer ({e}): using the CPU rasteriser"))),
+        let raster = |why: String| Ok((Renderer::new(RendererKind::Raster, scene)?, why));
+        match GpuAdapter::find() {
+            Ok(a) if a.is_software() => raster(format!("only a software adapter ({}): the CPU rasteriser is faster", a.describe())),
+            Ok(a) => match GpuRenderer::with_adapter(scene, a) {
+                Ok(g) => {
+                    let why = format!("GPU adapter {}", g.adapter_info());
+                    Ok((Renderer::Wgpu(g), why))
+                }
+                Err(e) => raster(format!("no GPU renderer ({e}): using the CPU rasteriser")),
+            },
+            Err(e) => raster(format!("no GPU renderer ({e}): using the CPU rasteriser")),
         }
     }
 
