@@ -4,6 +4,7 @@
 use crate::gpu::gpu;
 use base64::Engine;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use xhab_sim::scene::{load, to_glb_bytes, LoadOptions, Mesh, Scene, SceneError, Texture, Wrap};
 use xhab_sim::sensors::surface::linear_to_srgb_byte;
 use xhab_sim::sensors::{render_rgb, CameraParams, RasterScene, RayScene};
@@ -31,7 +32,7 @@ fn checker() -> Texture {
             rgba.extend_from_slice(&if (cx, cy) == (0, 0) { RED } else if (cx + cy) % 2 == 0 { WHITE } else { BLACK });
         }
     }
-    Texture { name: "checker".into(), width: 64, height: 64, rgba, wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
+    Texture { name: "checker".into(), width: 64, height: 64, rgba: Arc::new(rgba), wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
 }
 
 /// A wall at x = 2 (m) facing the origin, y in [-2, 2], z in [0, 2.5], textured with `tex`:
@@ -123,7 +124,7 @@ fn the_base_colour_factor_multiplies_the_texture_in_linear_space() {
 #[test]
 fn wrap_modes_repeat_clamp_and_mirror_in_every_renderer() {
     // Two texels, red then blue; u runs from -1 to 2 across the wall.
-    let two = |w: Wrap| Texture { name: "two".into(), width: 2, height: 1, rgba: [RED, BLUE].concat(), wrap_s: w, wrap_t: Wrap::Repeat };
+    let two = |w: Wrap| Texture { name: "two".into(), width: 2, height: 1, rgba: Arc::new([RED, BLUE].concat()), wrap_s: w, wrap_t: Wrap::Repeat };
     // At u = -0.75, -0.25, ..., 1.75 (texel centres and their images): red or blue.
     let cases = [
         (Wrap::Repeat, [RED, BLUE, RED, BLUE, RED, BLUE]),
@@ -210,7 +211,7 @@ fn gltf_textures_load_from_files_and_data_uris_with_their_sampler() {
         assert_eq!(s.textures.len(), 1);
         let t = &s.textures[0];
         assert_eq!((t.width, t.height, t.wrap_s, t.wrap_t), (2, 2, Wrap::ClampToEdge, Wrap::MirroredRepeat));
-        assert_eq!(t.rgba, [RED, BLUE, BLUE, RED].concat());
+        assert_eq!(*t.rgba, [RED, BLUE, BLUE, RED].concat());
         assert_eq!(s.meshes[0].texture, Some(0));
         assert_eq!(s.meshes[0].uvs, [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
     }
@@ -287,7 +288,7 @@ const FLOOR_TEXELS_PER_M: f64 = 50.0;
 /// A 256 x 256 checkerboard of 1-texel squares (white at (0, 0)), repeating.
 fn fine_checker() -> Texture {
     let rgba = (0..256u32).flat_map(|y| (0..256u32).map(move |x| if (x + y) % 2 == 0 { WHITE } else { BLACK })).flatten().collect();
-    Texture { name: "fine checker".into(), width: 256, height: 256, rgba, wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
+    Texture { name: "fine checker".into(), width: 256, height: 256, rgba: Arc::new(rgba), wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
 }
 
 /// A floor at z = 0, x in [0.5, 40] (m) ahead of the camera, y in [-31, 31], covered with

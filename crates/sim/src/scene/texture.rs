@@ -1,6 +1,7 @@
 //! Base-colour textures: RGBA8 sRGB images with glTF's wrap modes, stored once per scene.
 
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// How a texture coordinate outside [0, 1] picks a texel (glTF sampler `wrapS`/`wrapT`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -63,8 +64,9 @@ pub struct Texture {
     /// Height (texels, > 0).
     pub height: u32,
     /// Texels as RGBA bytes in sRGB encoding (alpha linear, unused: materials are opaque),
-    /// row-major, top row first; `width * height * 4` bytes.
-    pub rgba: Vec<u8>,
+    /// row-major, top row first; `width * height * 4` bytes. Shared: a copy of the texture
+    /// (of a scene, or a renderer's finest mip level) copies no texels.
+    pub rgba: Arc<Vec<u8>>,
     /// Wrap mode along u (glTF `wrapS`, default repeat).
     pub wrap_s: Wrap,
     /// Wrap mode along v (glTF `wrapT`, default repeat).
@@ -81,7 +83,7 @@ impl Texture {
         if width == 0 || height == 0 {
             return Err(format!("the image is empty ({width}x{height})"));
         }
-        Ok(Texture { name: name.to_string(), width, height, rgba: rgba.into_raw(), wrap_s, wrap_t })
+        Ok(Texture { name: name.to_string(), width, height, rgba: Arc::new(rgba.into_raw()), wrap_s, wrap_t })
     }
 
     /// The RGBA bytes of texel (`x`, `y`) (column, row from the top), both in range.

@@ -24,6 +24,7 @@
 use super::surface::{linear_to_srgb_byte, sample_bilinear_with, srgb_table};
 use crate::scene::Texture;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Width of the band of level-of-detail fractions, centred on one half, where two levels are
 /// blended; outside it a pixel reads one level.
@@ -43,6 +44,7 @@ pub struct MipChain {
 impl MipChain {
     /// The pyramid of `t` down to 1 x 1 (an inconsistent texture keeps its level 0 only).
     pub fn new(t: &Texture) -> MipChain {
+        // Level 0 shares the image's texels (no copy).
         let mut levels = vec![t.clone()];
         if !t.is_consistent() {
             return MipChain { levels };
@@ -124,7 +126,7 @@ fn downsample(t: &Texture) -> Texture {
             out[3] = (sum[3] / n + 0.5) as u8;
         }
     });
-    Texture { name: t.name.clone(), width: nw as u32, height: nh as u32, rgba, wrap_s: t.wrap_s, wrap_t: t.wrap_t }
+    Texture { name: t.name.clone(), width: nw as u32, height: nh as u32, rgba: Arc::new(rgba), wrap_s: t.wrap_s, wrap_t: t.wrap_t }
 }
 
 /// Level-0 texels per metre on triangle `v` (world, m) with texture coordinates `uv`, for a
@@ -228,7 +230,7 @@ mod tests {
             let v = f(x, y);
             [v, v, v, 255]
         });
-        Texture { name: "t".into(), width: w, height: h, rgba: rgba.collect(), wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
+        Texture { name: "t".into(), width: w, height: h, rgba: Arc::new(rgba.collect()), wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat }
     }
 
     #[test]

@@ -383,12 +383,13 @@ pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::Arc;
 
     fn checker() -> Texture {
         // 2 x 2: white, black / black, white (sRGB bytes).
         let w = [255, 255, 255, 255];
         let b = [0, 0, 0, 255];
-        Texture { name: "c".into(), width: 2, height: 2, rgba: [w, b, b, w].concat(), wrap_s: Wrap::Repeat, wrap_t: Wrap::ClampToEdge }
+        Texture { name: "c".into(), width: 2, height: 2, rgba: Arc::new([w, b, b, w].concat()), wrap_s: Wrap::Repeat, wrap_t: Wrap::ClampToEdge }
     }
 
     #[test]
