@@ -35,7 +35,7 @@
 //! between calls; they are reallocated only for a new resolution or batch size.
 
 use super::camera::CameraParams;
-use super::gpu_adapter::{describe, GpuAdapter};
+use super::gpu_adapter::GpuAdapter;
 use super::mipmap::texel_scale;
 use super::surface::{srgb_table, Surfaces};
 use crate::scene::{Scene, Wrap};
@@ -167,7 +167,8 @@ struct Target {
 /// A headless wgpu renderer of depth and colour images of one scene, uploaded once.
 /// Thread-safe (`Send + Sync`); concurrent calls are serialised.
 pub struct GpuRenderer {
-    info: wgpu::AdapterInfo,
+    /// The adapter the device was opened on.
+    gpu: GpuAdapter,
     device: wgpu::Device,
     queue: wgpu::Queue,
     max_dim: u32,
@@ -368,7 +369,8 @@ fn fs_rgb(in: RgbOut) -> @location(0) vec4<f32> {
 }
 "#;
 
-fn block<F: std::future::Future>(f: F) -> F::Output {
+/// Waits for a wgpu future on this thread.
+pub(super) fn block<F: std::future::Future>(f: F) -> F::Output {
     pollster::block_on(f)
 }
 
@@ -434,22 +436,22 @@ impl GpuRenderer {
             }
         }
 
-        let GpuAdapter { adapter, info } = match adapter {
+        let gpu = match adapter {
             Some(a) => a,
             None => GpuAdapter::find()?,
         };
-        let limits = adapter.limits();
+        let limits = gpu.adapter.limits();
         let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         if texel_bytes.len() as u64 > limit {
             return Err(GpuError::Textures { bytes: texel_bytes.len() as u64, limit });
         }
-        let (device, queue) = block(adapter.request_device(&wgpu::DeviceDescriptor {
+        let (device, queue) = block(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("xhab gpu camera"),
             required_features: wgpu::Features::empty(),
             required_limits: limits.clone(),
             ..Default::default()
         }))
-        .map_err(|e| GpuError::Device { adapter: describe(&info), message: e.to_string() })?;
+        .map_err(|e| GpuError::Device { adapter: gpu.describe(), message: e.to_string() })?;
         // Errors are caught by error scopes around each call; anything else is logged, never a panic.
         device.on_uncaptured_error(Arc::new(|e| tracing::error!("wgpu: {e}")));
 
@@ -542,7 +544,7 @@ impl GpuRenderer {
             max_layers: limits.max_texture_array_layers,
             max_buffer: limits.max_buffer_size,
             max_views_binding: limits.max_storage_buffer_binding_size,
-            info,
+            gpu,
             device,
             queue,
             bind_layout,
@@ -564,12 +566,12 @@ impl GpuRenderer {
 
     /// The adapter in use: name, backend, device type and driver.
     pub fn adapter_info(&self) -> String {
-        describe(&self.info)
+        self.gpu.describe()
     }
 
     /// True when the adapter renders on the CPU (device type `Cpu`, e.g. Mesa's llvmpipe).
     pub fn is_software(&self) -> bool {
-        self.info.device_type == wgpu::DeviceType::Cpu
+        self.gpu.is_software()
     }
 
     /// Number of triangles uploaded.

@@ -4,7 +4,7 @@
 //! [`super::Renderer::auto`] looks at the adapter first and builds the GPU renderer only on
 //! a real GPU.
 
-use super::gpu::GpuError;
+use super::gpu::{block, GpuError};
 use std::sync::OnceLock;
 
 /// A Vulkan adapter: a GPU first (discrete, integrated, virtual, other), else a software one
@@ -12,8 +12,10 @@ use std::sync::OnceLock;
 /// whose name contains it (case-insensitive).
 #[derive(Clone)]
 pub struct GpuAdapter {
+    /// The adapter, for [`super::GpuRenderer`] to open its device on.
     pub(super) adapter: wgpu::Adapter,
-    pub(super) info: wgpu::AdapterInfo,
+    /// Its name, backend, device type and driver.
+    info: wgpu::AdapterInfo,
 }
 
 impl std::fmt::Debug for GpuAdapter {
@@ -37,7 +39,7 @@ impl GpuAdapter {
             backends: wgpu::Backends::VULKAN,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
-        let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        let mut adapters = block(instance.enumerate_adapters(wgpu::Backends::VULKAN));
         if let Ok(want) = std::env::var("XHAB_GPU_ADAPTER") {
             let want = want.to_lowercase();
             adapters.retain(|a| a.get_info().name.to_lowercase().contains(&want));
@@ -57,17 +59,13 @@ impl GpuAdapter {
 
     /// The adapter's description: name, backend, device type (and driver).
     pub fn describe(&self) -> String {
-        describe(&self.info)
+        let info = &self.info;
+        let driver = if info.driver.is_empty() { String::new() } else { format!(", driver {} {}", info.driver, info.driver_info) };
+        format!("{} ({:?}, {:?}{driver})", info.name, info.backend, info.device_type)
     }
 
     /// True when the adapter renders on the CPU (device type `Cpu`, e.g. Mesa's llvmpipe).
     pub fn is_software(&self) -> bool {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
-}
-
-/// An adapter's description: name, backend, device type (and driver).
-pub(super) fn describe(info: &wgpu::AdapterInfo) -> String {
-    let driver = if info.driver.is_empty() { String::new() } else { format!(", driver {} {}", info.driver, info.driver_info) };
-    format!("{} ({:?}, {:?}{driver})", info.name, info.backend, info.device_type)
 }

@@ -66,15 +66,15 @@ impl Renderer {
     /// to a software device that would be dropped.
     pub fn auto(scene: &Scene) -> Result<(Renderer, String), RenderError> {
         let raster = |why: String| Ok((Renderer::new(RendererKind::Raster, scene)?, why));
-        match GpuAdapter::find() {
-            Ok(a) if a.is_software() => raster(format!("only a software adapter ({}): the CPU rasteriser is faster", a.describe())),
-            Ok(a) => match GpuRenderer::with_adapter(scene, a) {
-                Ok(g) => {
-                    let why = format!("GPU adapter {}", g.adapter_info());
-                    Ok((Renderer::Wgpu(g), why))
-                }
-                Err(e) => raster(format!("no GPU renderer ({e}): using the CPU rasteriser")),
-            },
+        let adapter = match GpuAdapter::find() {
+            Ok(a) if a.is_software() => return raster(format!("only a software adapter ({}): the CPU rasteriser is faster", a.describe())),
+            found => found,
+        };
+        match adapter.and_then(|a| GpuRenderer::with_adapter(scene, a)) {
+            Ok(g) => {
+                let why = format!("GPU adapter {}", g.adapter_info());
+                Ok((Renderer::Wgpu(g), why))
+            }
             Err(e) => raster(format!("no GPU renderer ({e}): using the CPU rasteriser")),
         }
     }
