@@ -231,22 +231,30 @@ impl CornerGraph {
     /// Whether node `k` can be the first bend of a shortest path from point `p` (m): a taut
     /// leg that `p` sees, `eps` (m) inside the clearance radius allowed.
     pub(crate) fn joins(&self, grid: &NavGrid, k: usize, p: [f64; 2], eps: f64) -> bool {
+        self.may_join(grid, k, p, eps).unwrap_or_else(|| segment_clear(grid, p, self.pos[k], eps))
+    }
+
+    /// [`CornerGraph::joins`] where its answer needs no line of sight: `Some(true)` for `p`
+    /// on the node, `Some(false)` for a leg that is not taut or heads steeply into the
+    /// node's obstacle; `None` when the line of sight decides.
+    #[inline]
+    fn may_join(&self, grid: &NavGrid, k: usize, p: [f64; 2], eps: f64) -> Option<bool> {
         let a = self.pos[k];
         let d = [p[0] - a[0], p[1] - a[1]];
         let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
         if l < 1e-9 {
-            return true;
+            return Some(true);
         }
         if !self.is_taut(k, [d[0] / l, d[1] / l]) {
-            return false;
+            return Some(false);
         }
         // Steeply into the obstacle the node stands off: too near it (see `into_cos_for`; the
         // bound is at least 0.5, so most legs are settled without working it out).
         let dn = d[0] * self.normal[k][0] + d[1] * self.normal[k][1];
         if self.taut[k] == TAUT_COS && dn < -0.5 * l && l > arc_radius(grid) && heads_into(dn, l * l, into_cos_eps(grid.params.radius, arc_radius(grid), eps)) {
-            return false;
+            return Some(false);
         }
-        segment_clear(grid, p, a, eps)
+        None
     }
 
     /// Geodesic distance between two points of the floor (m); infinite across islands or off
@@ -278,7 +286,14 @@ impl CornerGraph {
         SCRATCH.with(|sc| {
             let mut sc = sc.borrow_mut();
             sc.reset(self.len());
-            let Scratch { dist, heap } = &mut *sc;
+            let Scratch { dist, to_from, heap } = &mut *sc;
+            // The straight line from node `k` to `from` (m), worked out once per query.
+            let mut line = |k: usize| {
+                if to_from[k].is_nan() {
+                    to_from[k] = dist2(self.pos[k], s);
+                }
+                to_from[k]
+            };
             // Entries: (key bits, tag), the tag `b` for square `b` of nodes, else [`NODE`] |
             // node `k` shifted left by one, its low bit set while the node's leg from `to` is
             // still unverified (a seed). The order is the key's, then squares before nodes,
@@ -297,9 +312,11 @@ impl CornerGraph {
                 if tag < NODE {
                     let b = tag as usize;
                     for &k in &self.bucket_nodes[self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize] {
-                        if self.island[k as usize] == ia {
+                        // A seed that cannot join `to` whatever the line of sight is left out
+                        // now rather than when it comes up (the same answer, fewer entries).
+                        if self.island[k as usize] == ia && self.may_join(grid, k as usize, g, eg) != Some(false) {
                             let a = self.pos[k as usize];
-                            heap.push(Reverse(((dist2(g, a) + dist2(a, s)).to_bits(), NODE | k << 1 | 1)));
+                            heap.push(Reverse(((dist2(g, a) + line(k as usize)).to_bits(), NODE | k << 1 | 1)));
                         }
                     }
                     continue;
@@ -316,18 +333,18 @@ impl CornerGraph {
                         continue;
                     }
                     dk = dk.min(dist2(g, a));
-                } else if f64::from_bits(key) > dk + dist2(a, s) + 1e-12 {
+                } else if f64::from_bits(key) > dk + line(k) + 1e-12 {
                     continue;
                 }
                 dist[k] = f64::NEG_INFINITY;
                 if self.joins(grid, k, c, es) {
-                    return dk + dist2(a, s);
+                    return dk + line(k);
                 }
                 for (b, l) in self.legs(k) {
                     let nd = dk + l;
                     if nd < dist[b as usize] {
                         dist[b as usize] = nd;
-                        heap.push(Reverse(((nd + dist2(self.pos[b as usize], s)).to_bits(), NODE | b << 1)));
+                        heap.push(Reverse(((nd + line(b as usize)).to_bits(), NODE | b << 1)));
                     }
                 }
             }
@@ -341,10 +358,12 @@ impl CornerGraph {
 const NODE: u32 = 1 << 31;
 
 /// Reusable per-thread search arrays: the distance from the goal so far per node (minus
-/// infinity once settled) and the heap.
+/// infinity once settled), the straight line from each node to the query's start (m; NaN
+/// until needed) and the heap.
 #[derive(Default)]
 struct Scratch {
     dist: Vec<f64>,
+    to_from: Vec<f64>,
     heap: BinaryHeap<Reverse<(u64, u32)>>,
 }
 
@@ -352,6 +371,8 @@ impl Scratch {
     fn reset(&mut self, n: usize) {
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
+        self.to_from.clear();
+        self.to_from.resize(n, f64::NAN);
         self.heap.clear();
     }
 }
