@@ -5,7 +5,8 @@
 //! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
 //! [--pairs M]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
 //! `../shared`, 5 runs, no pairs). Prints each phase's best time over the runs (ms), with the
-//! grid's size, the graph's nodes and legs, and a hash of the grid's cells; with `--pairs`,
+//! grid's size, the graph's nodes and legs, and a hash of the grid's cells, then the best
+//! time of each step of the grid's build ([`NavGrid::build_laps`]); with `--pairs`,
 //! also the rate of M cold pair queries between seeded random navigable points (this thread)
 //! and a hash of their distances' bits. The hashes tell whether a change to the build changed
 //! the grid or any answer.
@@ -48,6 +49,8 @@ fn main() {
             }
         };
         let mut best = [f64::INFINITY; 3];
+        // The best time of each step of the grid's build, in the order they ran.
+        let mut steps: Vec<(&'static str, f64)> = Vec::new();
         let mut sizes = String::new();
         let mut pair_line = String::new();
         for run in 0..runs.max(1) {
@@ -72,6 +75,12 @@ fn main() {
             for (b, v) in best.iter_mut().zip([t1, t2 - t1, t3 - t2]) {
                 *b = b.min(v);
             }
+            for &(name, s) in grid.build_laps().laps() {
+                match steps.iter_mut().find(|l| l.0 == name) {
+                    Some(l) => l.1 = l.1.min(s),
+                    None => steps.push((name, s)),
+                }
+            }
             sizes = format!("grid {:?} cells, graph {} nodes / {} legs, grid hash {:016x}", grid.size(), graph.len(), graph.leg_count(), grid_hash(&grid));
             if run + 1 == runs.max(1) && pairs > 0 {
                 // On the last run's grid and graph.
@@ -79,6 +88,8 @@ fn main() {
             }
         }
         println!("{path}: floors {:.1} ms, grid {:.1} ms, corner graph {:.1} ms ({sizes})", best[0] * 1e3, best[1] * 1e3, best[2] * 1e3);
+        let steps: Vec<String> = steps.iter().map(|(name, s)| format!("{name} {:.1}", s * 1e3)).collect();
+        println!("  grid steps (best of each, ms): {}", steps.join(", "));
         if !pair_line.is_empty() {
             println!("{pair_line}");
         }

@@ -30,6 +30,24 @@ fn the_stair_building_has_two_storeys_whose_grids_share_the_flight() {
 }
 
 #[test]
+fn a_grids_build_laps_name_the_steps_its_kind_of_storey_took() {
+    let names = |g: &xhab_sim::navgrid::NavGrid| g.build_laps().laps().iter().map(|l| l.0).collect::<Vec<&str>>();
+    let world = World::new(stair_building(&StairBuildingParams::default()), AgentParams::default());
+    let storey = world.grid(0).unwrap();
+    assert!(storey.has_stairs());
+    let flat = World::new(xhab_sim::scene::house::default_house(3), AgentParams::default());
+    let floor = flat.grid(flat.default_floor().unwrap()).unwrap();
+    assert!(!floor.has_stairs());
+    for (g, own, other) in [(&storey, "banded clearance", "boundary edges"), (&floor, "boundary edges", "banded clearance")] {
+        let n = names(g);
+        assert_eq!(n.first(), Some(&"band edges"), "{n:?}");
+        assert_eq!(n.last(), Some(&"corners"), "{n:?}");
+        assert!(n.contains(&own) && !n.contains(&other), "{n:?}");
+        assert!(g.build_laps().laps().iter().all(|l| l.1 >= 0.0 && l.1.is_finite()));
+    }
+}
+
+#[test]
 fn a_point_on_the_flight_is_navigable_at_the_height_of_the_tread_under_it() {
     let p = StairBuildingParams::default();
     let world = World::new(stair_building(&p), AgentParams::default());

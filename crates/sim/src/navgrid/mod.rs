@@ -7,6 +7,7 @@
 //! not quantised to the grid. Navigable cells form islands (4-connected components).
 
 mod band_edges;
+mod build_laps;
 mod clearance;
 pub(crate) mod convex_vertices;
 mod floors;
@@ -15,6 +16,7 @@ mod stairs;
 mod storey_band;
 pub(crate) mod raster;
 
+pub use build_laps::BuildLaps;
 pub use floors::{detect_floors, Floor};
 pub use stairs::StoreyBounds;
 pub(crate) use clearance::{closest_on_segment, SeenSegments, SegmentLine};
@@ -131,6 +133,8 @@ pub struct NavGrid {
     pub(crate) fields: crate::field_cache::FieldCache,
     /// The bend points of shortest paths and the legs between them, built on first use.
     pub(crate) corner_graph: std::sync::OnceLock<std::sync::Arc<crate::corner_graph::CornerGraph>>,
+    /// The time each step of this grid's build took.
+    laps: BuildLaps,
 }
 
 /// Rows of the grid one thread rasterises at a time in [`NavGrid::build_storey`].
@@ -149,6 +153,12 @@ impl NavGrid {
     /// The corner graph of this floor (the bend points of shortest paths), built on first use.
     pub fn corner_graph(&self) -> &std::sync::Arc<crate::corner_graph::CornerGraph> {
         self.corner_graph.get_or_init(|| std::sync::Arc::new(crate::corner_graph::CornerGraph::new(self)))
+    }
+
+    /// The time each step of this grid's build took (the corner graph, built on first use, is
+    /// not among them).
+    pub fn build_laps(&self) -> &BuildLaps {
+        &self.laps
     }
 
     /// Builds the navigable region of `scene` on the floor at height `floor_z` (m).
@@ -194,6 +204,7 @@ impl NavGrid {
         // parallel chunks joined in scene order, each with its flags and rows; then bands of
         // rows are filled in parallel, every band taking its triangles in scene order (the
         // same cells as one pass, any thread count).
+        let mut laps = BuildLaps::start();
         let chunks = scene.triangle_chunks(GATHER_CHUNK);
         // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
         type Kept = (u32, u32, bool, bool, u32, u32);
@@ -243,6 +254,7 @@ impl NavGrid {
                 }
             }
         }
+        laps.lap("band edges");
         let band = RASTER_BAND_ROWS * w;
         ground.par_chunks_mut(band).zip(occupied.par_chunks_mut(band)).zip(roof.par_chunks_mut(band)).zip(in_bands.par_iter()).enumerate().for_each(
             |(b, (((ground, occupied), roof), list))| {
@@ -269,19 +281,24 @@ impl NavGrid {
                 }
             },
         );
+        laps.lap("fill");
         if ground.iter().all(|g| g.is_nan()) {
             return Err(NavGridError::NoFloor(format!(" near height {floor_z:.3} m")));
         }
         let cap = params.radius + 4.0 * res;
         let stairs = stairs::find(scene, params, &spec, floor_z, bounds);
+        laps.lap("stairs");
         let (mut clear, mut nearest, no_floor, drops) = if let Some(st) = &stairs {
             ground = st.ground.clone();
             let banded = storey_band::clearance(scene, params, &spec, floor_z, &ground, &mut occupied, &mut roof, cap);
+            laps.lap("banded clearance");
             segs = banded.segments;
             (banded.clear, banded.nearest, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), banded.drops)
         } else {
             fill_enclosed(&mut occupied, &ground, &roof, &spec);
+            laps.lap("enclosed");
             segs = band_edges::boundary_edges(&segs, &sides);
+            laps.lap("boundary edges");
             // Cells off the region whose eight neighbours are off it too read no distance
             // and no nearest segment (their clearance is 0, and no test looks further).
             let off = |i: usize| occupied[i] || ground[i].is_nan();
@@ -293,6 +310,7 @@ impl NavGrid {
                 })
                 .collect();
             let (c, near) = clearance::segment_distance(&spec, &segs, cap, &deep);
+            laps.lap("segment distance");
             // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
             (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), Vec::new())
         };
@@ -311,6 +329,7 @@ impl NavGrid {
             }
         }
         storey_band::apply_drops(&mut clear, &mut nearest, &ground, &drops, &spec, cap, params.max_climb);
+        laps.lap("edge distance");
         let mut grid = NavGrid {
             params: params.clone(),
             floor_z,
@@ -329,11 +348,16 @@ impl NavGrid {
             los_blocked: Vec::new(),
             fields: Default::default(),
             corner_graph: Default::default(),
+            laps: BuildLaps::default(),
         };
         grid.block_margin = crate::geodesic::block_margins(&grid);
         grid.los_blocked = crate::geodesic::los_bits(&grid.block_margin);
+        laps.lap("line-of-sight margins");
         grid.label_islands();
+        laps.lap("islands");
         grid.find_corners();
+        laps.lap("corners");
+        grid.laps = laps;
         Ok(grid)
     }
 
