@@ -329,10 +329,13 @@ impl CornerGraph {
                 }
                 let a = self.pos[k];
                 if tag & 1 == 1 {
-                    if !self.joins(grid, k, g, eg) {
+                    // Its taut tests passed when it was seeded: only the line of sight is left
+                    // (none for a goal on the node).
+                    let dg = dist2(g, a);
+                    if dg >= 1e-9 && !segment_clear(grid, g, a, eg) {
                         continue;
                     }
-                    dk = dk.min(dist2(g, a));
+                    dk = dk.min(dg);
                 } else if f64::from_bits(key) > dk + line(k) + 1e-12 {
                     continue;
                 }
