@@ -1,11 +1,14 @@
-//! A measurement, not a check: what the all-pairs route to cold pair queries would cost on the
-//! shared houses (issue 17's suggestion: every pair of corner-graph nodes' distances
+//! Measurements, not checks, of two routes to faster cold pair queries on the shared houses.
+//!
+//! `route_probe`: what the all-pairs route would cost (issue 17's suggestion: every pair of corner-graph nodes' distances
 //! precomputed, and a query the minimum over the nodes its two ends see). Prints the table's
 //! build time and size, how many nodes a cell centre joins and what finding them costs, and the
 //! table query's time against [`CornerGraph::distance`]'s on pairs of cell centres, with the
 //! largest relative difference (it asserts only that both agree on which pairs are reachable).
 //!
 //! `cargo test --release -p xhab-sim --lib route_probe -- --ignored --nocapture`
+//!
+//! `heuristic_floor`: how much of the search's work a better heuristic could save at best.
 
 use super::*;
 use std::time::Instant;
@@ -117,5 +120,87 @@ fn route_probe() {
             q_s / pairs.len() as f64 * 1e6,
             old_s / pairs.len() as f64 * 1e6,
         );
+    }
+}
+
+/// How much of [`CornerGraph::distance`]'s work a better heuristic could save. For seeded
+/// random pairs that do not see each other, it counts what an A* search from the goal does
+/// with the straight line to the start as its heuristic (what `distance` uses) and with a
+/// perfect one (each node's exact distance to the start): the goal-side seeds it takes (nodes
+/// that pass the goal's taut tests and whose line from the goal plus heuristic is below the
+/// answer), how many of those the goal does not see (each a failed line-of-sight test), the
+/// nodes it settles (the graph distance from the goal plus heuristic below the answer, or on
+/// a shortest path) and how many of those ask a line of sight to the start. What the perfect
+/// heuristic leaves is a floor under any heuristic's work.
+///
+/// `cargo test --release -p xhab-sim --lib heuristic_floor -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn heuristic_floor() {
+    use rand::SeedableRng;
+    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+    for (scene, pairs) in [("turtlebot3_house.glb", 300), ("aws_small_house.glb", 150)] {
+        let path = format!("{data}/scenes/{scene}");
+        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
+            eprintln!("heuristic_floor: SKIPPED {scene}: cannot load {path}");
+            continue;
+        };
+        let w = crate::world::World::new(s, Default::default());
+        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let g = grid.corner_graph().clone();
+        let cells = grid.cells_on_islands(0.0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let ends: Vec<([f64; 2], [f64; 2])> = (0..pairs)
+            .filter_map(|_| {
+                let a = grid.sample_navigable_point(&cells, &mut rng)?;
+                let b = grid.sample_navigable_point(&cells, &mut rng)?;
+                Some(([a.x, a.y], [b.x, b.y]))
+            })
+            .collect();
+        let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
+        // Per pair, for the straight-line heuristic then the perfect one: seeds, seeds unseen,
+        // settled, settled asking a line of sight.
+        let counts: Vec<[f64; 8]> = ends
+            .par_iter()
+            .filter_map(|&(s, gl)| {
+                let d = g.distance(&grid, p2(s), p2(gl));
+                if !d.is_finite() || d <= dist2(s, gl) + 1e-9 {
+                    return None;
+                }
+                let ia = grid.island_at(p2(gl))?;
+                let (eg, es) = (end_eps(&grid, gl), end_eps(&grid, s));
+                let mut c = [0.0; 8];
+                for k in (0..g.len()).filter(|&k| g.island(k) == ia) {
+                    let a = g.pos(k);
+                    let (to_s, to_g) = (g.distance(&grid, p2(a), p2(s)), g.distance(&grid, p2(a), p2(gl)));
+                    let seed = g.may_join(&grid, k, gl, eg) != Some(false);
+                    let unseen = seed && !segment_clear(&grid, gl, a, eg);
+                    let asks = g.may_join(&grid, k, s, es).is_none();
+                    for (j, h) in [(0, dist2(a, s)), (4, to_s)] {
+                        if seed && dist2(gl, a) + h < d - 1e-9 {
+                            c[j] += 1.0;
+                            c[j + 1] += unseen as u8 as f64;
+                        }
+                        if to_g + h < d - 1e-9 || to_g + to_s <= d + 1e-9 {
+                            c[j + 2] += 1.0;
+                            c[j + 3] += asks as u8 as f64;
+                        }
+                    }
+                }
+                Some(c)
+            })
+            .collect();
+        let m = counts.len().max(1) as f64;
+        let mean = |j: usize| counts.iter().map(|c| c[j]).sum::<f64>() / m;
+        for (name, j) in [("straight-line heuristic", 0), ("perfect heuristic", 4)] {
+            eprintln!(
+                "{scene}: {} pairs that do not see each other; {name}, per query: {:.1} goal-side seeds, {:.1} of them unseen from the goal; {:.1} nodes settled, {:.1} of them asking a line of sight to the start",
+                counts.len(),
+                mean(j),
+                mean(j + 1),
+                mean(j + 2),
+                mean(j + 3)
+            );
+        }
     }
 }
