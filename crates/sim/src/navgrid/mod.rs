@@ -262,8 +262,17 @@ impl NavGrid {
                 let first = rows.start * w;
                 for &k in list {
                     let (m, ti, walkable, faces_up, _, _) = tris[k as usize];
-                    let t = &scene.meshes[m as usize].triangle(ti as usize).map(|p| p.map(|v| v as f64));
-                    raster::for_each_cell_in_rows(&spec, t, 0.0, rows.clone(), |c, r, lo, hi| {
+                    let mut t = scene.meshes[m as usize].triangle(ti as usize).map(|p| p.map(|v| v as f64));
+                    // A triangle wholly inside the body band that is not walkable only marks
+                    // the cells it covers as occupied, whatever its heights over each: it is
+                    // drawn as if level at its lowest (the same cells, without clipping each).
+                    let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
+                    if !walkable && zlo > band_lo && t[0][2].max(t[1][2]).max(t[2][2]) < band_hi {
+                        for p in &mut t {
+                            p[2] = zlo;
+                        }
+                    }
+                    raster::for_each_cell_in_rows(&spec, &t, 0.0, rows.clone(), |c, r, lo, hi| {
                         let i = r * w + c - first;
                         if lo >= band_hi && (lo as f32) < roof[i].0 {
                             roof[i] = (lo as f32, faces_up);
