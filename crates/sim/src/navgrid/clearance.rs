@@ -140,10 +140,31 @@ pub(crate) fn segment_distance_where(
             (c1 >= 0.0 && r1 >= 0.0).then_some((c0, c1 as usize, r0, r1 as usize))
         })
         .collect();
+    // Cells not skipped, summed over each rectangle from the grid's corner: a segment whose
+    // cells are all skipped changes none and is left out.
+    let open = (!skip.is_empty()).then(|| {
+        let w1 = spec.w + 1;
+        let mut sum = vec![0u32; w1 * (spec.h + 1)];
+        for r in 0..spec.h {
+            let mut row = 0u32;
+            for c in 0..spec.w {
+                row += !skip[r * spec.w + c] as u32;
+                sum[(r + 1) * w1 + c + 1] = sum[r * w1 + c + 1] + row;
+            }
+        }
+        sum
+    });
+    let reaches_open = |(c0, c1, r0, r1): (usize, usize, usize, usize)| match &open {
+        None => true,
+        Some(sum) => {
+            let w1 = spec.w + 1;
+            sum[(r1 + 1) * w1 + c1 + 1] + sum[r0 * w1 + c0] != sum[r0 * w1 + c1 + 1] + sum[(r1 + 1) * w1 + c0]
+        }
+    };
     // Each band's segments, in order (most reach one band or two).
     let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); spec.h.div_ceil(SEGMENT_BAND_ROWS)];
     for (k, b) in boxes.iter().enumerate() {
-        if let Some((_, _, r0, r1)) = b.filter(|b| b.2 <= b.3) {
+        if let Some((_, _, r0, r1)) = b.filter(|b| b.0 <= b.1 && b.2 <= b.3 && reaches_open(*b)) {
             for list in &mut in_band[r0 / SEGMENT_BAND_ROWS..=r1 / SEGMENT_BAND_ROWS] {
                 list.push(k as u32);
             }
