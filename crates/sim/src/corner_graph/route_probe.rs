@@ -1,4 +1,4 @@
-//! Measurements, not checks, of two routes to faster cold pair queries on the shared houses.
+//! Measurements, not checks, of routes to faster cold pair queries on the shared houses.
 //!
 //! `route_probe`: what the all-pairs route would cost (issue 17's suggestion: every pair of corner-graph nodes' distances
 //! precomputed, and a query the minimum over the nodes its two ends see). Prints the table's
@@ -9,6 +9,8 @@
 //! `cargo test --release -p xhab-sim --lib route_probe -- --ignored --nocapture`
 //!
 //! `heuristic_floor`: how much of the search's work a better heuristic could save at best.
+//!
+//! `square_pvs`: how many failed lines of sight a set of nodes seen per 1 m square would spare.
 
 use super::*;
 use std::time::Instant;
@@ -202,5 +204,109 @@ fn heuristic_floor() {
                 mean(j + 3)
             );
         }
+    }
+}
+
+/// How much a set of nodes seen per 1 m square of the floor (a potentially visible set) would
+/// spare the search: for seeded random pairs, how many of the goal-side seeds the search takes
+/// now (straight-line heuristic) the goal does not see, how many of those lie outside its
+/// square's set, and how many seeds the goal does see lie outside it (the set built here
+/// from samples, 0.2 m apart, is not conservative: those would be answers lost). Also the
+/// set's mean size and what building it by samples cost.
+///
+/// `cargo test --release -p xhab-sim --lib square_pvs -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn square_pvs() {
+    use rand::SeedableRng;
+    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+    for (scene, pairs) in [("turtlebot3_house.glb", 2000), ("aws_small_house.glb", 2000)] {
+        let path = format!("{data}/scenes/{scene}");
+        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
+            eprintln!("square_pvs: SKIPPED {scene}: cannot load {path}");
+            continue;
+        };
+        let w = crate::world::World::new(s, Default::default());
+        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let g = grid.corner_graph().clone();
+        let n = g.len();
+        let (gw, gh) = grid.size();
+        let res = grid.resolution();
+        let per = (1.0 / res).round() as usize;
+        let (sc, sr) = (gw.div_ceil(per), gh.div_ceil(per));
+        let t = Instant::now();
+        let pvs: Vec<Vec<bool>> = (0..sc * sr)
+            .into_par_iter()
+            .map(|q| {
+                let (qc, qr) = (q % sc, q / sc);
+                let mut seen = vec![false; n];
+                for r in (qr * per..((qr + 1) * per).min(gh)).step_by(4) {
+                    for c in (qc * per..((qc + 1) * per).min(gw)).step_by(4) {
+                        let i = r * gw + c;
+                        if !grid.is_nav_cell(i) {
+                            continue;
+                        }
+                        let p = grid.center(i);
+                        for k in 0..n {
+                            if !seen[k] && g.island(k) == grid.island_of[i] && g.joins(&grid, k, p, LOS_EPS) {
+                                seen[k] = true;
+                            }
+                        }
+                    }
+                }
+                seen
+            })
+            .collect();
+        let build_s = t.elapsed().as_secs_f64();
+        let sizes: Vec<usize> = pvs.iter().map(|v| v.iter().filter(|&&b| b).count()).filter(|&m| m > 0).collect();
+        let cells = grid.cells_on_islands(0.0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let ends: Vec<([f64; 2], [f64; 2])> = (0..pairs)
+            .filter_map(|_| {
+                let a = grid.sample_navigable_point(&cells, &mut rng)?;
+                let b = grid.sample_navigable_point(&cells, &mut rng)?;
+                Some(([a.x, a.y], [b.x, b.y]))
+            })
+            .collect();
+        let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
+        // Per pair: seeds taken, unseen, unseen outside the set, seen outside the set.
+        let counts: Vec<[f64; 4]> = ends
+            .par_iter()
+            .filter_map(|&(s, gl)| {
+                let d = g.distance(&grid, p2(s), p2(gl));
+                if !d.is_finite() || d <= dist2(s, gl) + 1e-9 {
+                    return None;
+                }
+                let ia = grid.island_at(p2(gl))?;
+                let eg = end_eps(&grid, gl);
+                let i = grid.cell_of(p2(gl))?;
+                let set = &pvs[(i / gw / per) * sc + (i % gw) / per];
+                let mut c = [0.0; 4];
+                for k in (0..n).filter(|&k| g.island(k) == ia) {
+                    let a = g.pos(k);
+                    if g.may_join(&grid, k, gl, eg) != Some(false) && dist2(gl, a) + dist2(a, s) < d - 1e-9 {
+                        let unseen = !segment_clear(&grid, gl, a, eg);
+                        c[0] += 1.0;
+                        c[1] += unseen as u8 as f64;
+                        c[2] += (unseen && !set[k]) as u8 as f64;
+                        c[3] += (!unseen && !set[k]) as u8 as f64;
+                    }
+                }
+                Some(c)
+            })
+            .collect();
+        let m = counts.len().max(1) as f64;
+        let mean = |j: usize| counts.iter().map(|c| c[j]).sum::<f64>() / m;
+        eprintln!(
+            "{scene}: square sets of {:.0} nodes on average (most {}), built from samples in {:.0} ms; per query ({} pairs that do not see each other): {:.1} seeds taken, {:.1} unseen from the goal, {:.1} of those outside the goal's square's set; {:.2} seen seeds outside it",
+            sizes.iter().sum::<usize>() as f64 / sizes.len().max(1) as f64,
+            sizes.iter().max().unwrap_or(&0),
+            build_s * 1e3,
+            counts.len(),
+            mean(0),
+            mean(1),
+            mean(2),
+            mean(3)
+        );
     }
 }
