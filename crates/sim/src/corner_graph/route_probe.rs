@@ -1,8 +1,8 @@
 //! Measurements, not checks, of routes to faster cold pair queries on the shared houses.
 //!
-//! `route_probe`: what the all-pairs route would cost (issue 17's suggestion: every pair of corner-graph nodes' distances
-//! precomputed, and a query the minimum over the nodes its two ends see). Prints the table's
-//! build time and size, how many nodes a cell centre joins and what finding them costs, and the
+//! `route_probe`: what the all-pairs route would cost (issue 17's suggestion: every pair of
+//! corner-graph nodes' distances precomputed, and a query the minimum over the nodes its two
+//! ends see). Prints the table's build time and size, how many nodes a cell centre joins and what finding them costs, and the
 //! table query's time against [`CornerGraph::distance`]'s on pairs of cell centres, with the
 //! largest relative difference (it asserts only that both agree on which pairs are reachable).
 //!
