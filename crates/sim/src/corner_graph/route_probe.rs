@@ -13,20 +13,41 @@
 //! `square_pvs`: how many failed lines of sight a set of nodes seen per 1 m square would spare.
 
 use super::*;
+use std::sync::Arc;
 use std::time::Instant;
+
+/// The default floor's grid of a shared house (`$XHAB_DATA` or `../shared`), or `None` with a
+/// loud note when the scene is not there.
+fn house_grid(probe: &str, scene: &str) -> Option<Arc<NavGrid>> {
+    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+    let path = format!("{data}/scenes/{scene}");
+    let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
+        eprintln!("{probe}: SKIPPED {scene}: cannot load {path}");
+        return None;
+    };
+    let w = crate::world::World::new(s, Default::default());
+    w.grid(w.default_floor()?).ok()
+}
+
+/// `n` seeded random pairs of navigable points of `grid` (m).
+fn seeded_pairs(grid: &NavGrid, n: usize) -> Vec<([f64; 2], [f64; 2])> {
+    use rand::SeedableRng;
+    let cells = grid.cells_on_islands(0.0);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    (0..n)
+        .filter_map(|_| {
+            let a = grid.sample_navigable_point(&cells, &mut rng)?;
+            let b = grid.sample_navigable_point(&cells, &mut rng)?;
+            Some(([a.x, a.y], [b.x, b.y]))
+        })
+        .collect()
+}
 
 #[test]
 #[ignore]
 fn route_probe() {
-    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
     for scene in ["turtlebot3_house.glb", "aws_small_house.glb"] {
-        let path = format!("{data}/scenes/{scene}");
-        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
-            eprintln!("route_probe: SKIPPED {scene}: cannot load {path}");
-            continue;
-        };
-        let w = crate::world::World::new(s, Default::default());
-        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let Some(grid) = house_grid("route_probe", scene) else { continue };
         let g = grid.corner_graph().clone();
         let n = g.len();
         // 1. All pairs: Dijkstra from every node.
@@ -139,26 +160,10 @@ fn route_probe() {
 #[test]
 #[ignore]
 fn heuristic_floor() {
-    use rand::SeedableRng;
-    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
     for (scene, pairs) in [("turtlebot3_house.glb", 300), ("aws_small_house.glb", 150)] {
-        let path = format!("{data}/scenes/{scene}");
-        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
-            eprintln!("heuristic_floor: SKIPPED {scene}: cannot load {path}");
-            continue;
-        };
-        let w = crate::world::World::new(s, Default::default());
-        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let Some(grid) = house_grid("heuristic_floor", scene) else { continue };
         let g = grid.corner_graph().clone();
-        let cells = grid.cells_on_islands(0.0);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        let ends: Vec<([f64; 2], [f64; 2])> = (0..pairs)
-            .filter_map(|_| {
-                let a = grid.sample_navigable_point(&cells, &mut rng)?;
-                let b = grid.sample_navigable_point(&cells, &mut rng)?;
-                Some(([a.x, a.y], [b.x, b.y]))
-            })
-            .collect();
+        let ends = seeded_pairs(&grid, pairs);
         let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
         // Per pair, for the straight-line heuristic then the perfect one: seeds, seeds unseen,
         // settled, settled asking a line of sight.
@@ -218,16 +223,8 @@ fn heuristic_floor() {
 #[test]
 #[ignore]
 fn square_pvs() {
-    use rand::SeedableRng;
-    let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
     for (scene, pairs) in [("turtlebot3_house.glb", 2000), ("aws_small_house.glb", 2000)] {
-        let path = format!("{data}/scenes/{scene}");
-        let Ok(s) = crate::scene::load(std::path::Path::new(&path), &Default::default()) else {
-            eprintln!("square_pvs: SKIPPED {scene}: cannot load {path}");
-            continue;
-        };
-        let w = crate::world::World::new(s, Default::default());
-        let grid = w.grid(w.default_floor().unwrap()).unwrap();
+        let Some(grid) = house_grid("square_pvs", scene) else { continue };
         let g = grid.corner_graph().clone();
         let n = g.len();
         let (gw, gh) = grid.size();
@@ -259,15 +256,7 @@ fn square_pvs() {
             .collect();
         let build_s = t.elapsed().as_secs_f64();
         let sizes: Vec<usize> = pvs.iter().map(|v| v.iter().filter(|&&b| b).count()).filter(|&m| m > 0).collect();
-        let cells = grid.cells_on_islands(0.0);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        let ends: Vec<([f64; 2], [f64; 2])> = (0..pairs)
-            .filter_map(|_| {
-                let a = grid.sample_navigable_point(&cells, &mut rng)?;
-                let b = grid.sample_navigable_point(&cells, &mut rng)?;
-                Some(([a.x, a.y], [b.x, b.y]))
-            })
-            .collect();
+        let ends = seeded_pairs(&grid, pairs);
         let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
         // Per pair: seeds taken, unseen, unseen outside the set, seen outside the set.
         let counts: Vec<[f64; 4]> = ends
