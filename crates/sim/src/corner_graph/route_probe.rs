@@ -43,6 +43,21 @@ fn seeded_pairs(grid: &NavGrid, n: usize) -> Vec<([f64; 2], [f64; 2])> {
         .collect()
 }
 
+/// A point (m) as a [`Point2`].
+fn p2(p: [f64; 2]) -> Point2 {
+    Point2::new(p[0], p[1])
+}
+
+/// For a pair of points (m) that are connected but do not see each other: their distance
+/// (m), their island and the goal's line-of-sight tolerance (m).
+fn apart(g: &CornerGraph, grid: &NavGrid, s: [f64; 2], gl: [f64; 2]) -> Option<(f64, u32, f64)> {
+    let d = g.distance(grid, p2(s), p2(gl));
+    if !d.is_finite() || d <= dist2(s, gl) + 1e-9 {
+        return None;
+    }
+    Some((d, grid.island_at(p2(gl))?, end_eps(grid, gl)))
+}
+
 #[test]
 #[ignore]
 fn route_probe() {
@@ -164,18 +179,13 @@ fn heuristic_floor() {
         let Some(grid) = house_grid("heuristic_floor", scene) else { continue };
         let g = grid.corner_graph().clone();
         let ends = seeded_pairs(&grid, pairs);
-        let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
         // Per pair, for the straight-line heuristic then the perfect one: seeds, seeds unseen,
         // settled, settled asking a line of sight.
         let counts: Vec<[f64; 8]> = ends
             .par_iter()
             .filter_map(|&(s, gl)| {
-                let d = g.distance(&grid, p2(s), p2(gl));
-                if !d.is_finite() || d <= dist2(s, gl) + 1e-9 {
-                    return None;
-                }
-                let ia = grid.island_at(p2(gl))?;
-                let (eg, es) = (end_eps(&grid, gl), end_eps(&grid, s));
+                let (d, ia, eg) = apart(&g, &grid, s, gl)?;
+                let es = end_eps(&grid, s);
                 let mut c = [0.0; 8];
                 for k in (0..g.len()).filter(|&k| g.island(k) == ia) {
                     let a = g.pos(k);
@@ -257,17 +267,11 @@ fn square_pvs() {
         let build_s = t.elapsed().as_secs_f64();
         let sizes: Vec<usize> = pvs.iter().map(|v| v.iter().filter(|&&b| b).count()).filter(|&m| m > 0).collect();
         let ends = seeded_pairs(&grid, pairs);
-        let p2 = |p: [f64; 2]| Point2::new(p[0], p[1]);
         // Per pair: seeds taken, unseen, unseen outside the set, seen outside the set.
         let counts: Vec<[f64; 4]> = ends
             .par_iter()
             .filter_map(|&(s, gl)| {
-                let d = g.distance(&grid, p2(s), p2(gl));
-                if !d.is_finite() || d <= dist2(s, gl) + 1e-9 {
-                    return None;
-                }
-                let ia = grid.island_at(p2(gl))?;
-                let eg = end_eps(&grid, gl);
+                let (d, ia, eg) = apart(&g, &grid, s, gl)?;
                 let i = grid.cell_of(p2(gl))?;
                 let set = &pvs[(i / gw / per) * sc + (i % gw) / per];
                 let mut c = [0.0; 4];
