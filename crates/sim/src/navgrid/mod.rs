@@ -206,8 +206,11 @@ impl NavGrid {
         // same cells as one pass, any thread count).
         let mut laps = BuildLaps::start();
         let chunks = scene.triangle_chunks(GATHER_CHUNK);
-        // Each kept triangle as (mesh, index, walkable, faces up, first row, last row).
-        type Kept = (u32, u32, bool, bool, u32, u32);
+        // Each kept triangle as (mesh, index, walkable, faces up, band only, first row, last
+        // row). A band-only triangle lies wholly inside the body band and is not walkable: it
+        // only marks the cells it covers as occupied, whatever its heights over each, so it is
+        // drawn as if level at its lowest (the same cells, without a clip per cell).
+        type Kept = (u32, u32, bool, bool, bool, u32, u32);
         let gathered: Vec<(Vec<Kept>, Vec<clearance::Seg>, Vec<i8>)> = chunks
             .par_iter()
             .map(|(m, range)| {
@@ -234,7 +237,8 @@ impl NavGrid {
                         continue;
                     }
                     let (r0, r1) = (r0.max(0.0) as u32, (r1 as usize).min(h - 1) as u32);
-                    kept.push((*m as u32, ti as u32, walkable, raster::normal_z_sign(&t) > 0.0, r0, r1));
+                    let band_only = !walkable && zlo > band_lo && zhi < band_hi;
+                    kept.push((*m as u32, ti as u32, walkable, raster::normal_z_sign(&t) > 0.0, band_only, r0, r1));
                 }
                 (kept, segs, sides)
             })
@@ -249,7 +253,7 @@ impl NavGrid {
             for t in kept {
                 let k = tris.len() as u32;
                 tris.push(t);
-                for b in t.4 as usize / RASTER_BAND_ROWS..=t.5 as usize / RASTER_BAND_ROWS {
+                for b in t.5 as usize / RASTER_BAND_ROWS..=t.6 as usize / RASTER_BAND_ROWS {
                     in_bands[b].push(k);
                 }
             }
@@ -261,13 +265,10 @@ impl NavGrid {
                 let rows = b * RASTER_BAND_ROWS..((b + 1) * RASTER_BAND_ROWS).min(h);
                 let first = rows.start * w;
                 for &k in list {
-                    let (m, ti, walkable, faces_up, _, _) = tris[k as usize];
+                    let (m, ti, walkable, faces_up, band_only, _, _) = tris[k as usize];
                     let mut t = scene.meshes[m as usize].triangle(ti as usize).map(|p| p.map(|v| v as f64));
-                    // A triangle wholly inside the body band that is not walkable only marks
-                    // the cells it covers as occupied, whatever its heights over each: it is
-                    // drawn as if level at its lowest (the same cells, without clipping each).
-                    let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
-                    if !walkable && zlo > band_lo && t[0][2].max(t[1][2]).max(t[2][2]) < band_hi {
+                    if band_only {
+                        let zlo = t[0][2].min(t[1][2]).min(t[2][2]);
                         for p in &mut t {
                             p[2] = zlo;
                         }
