@@ -38,7 +38,7 @@ fn a_grids_build_laps_name_the_steps_its_kind_of_storey_took() {
     let flat = World::new(xhab_sim::scene::house::default_house(3), AgentParams::default());
     let floor = flat.grid(flat.default_floor().unwrap()).unwrap();
     assert!(!floor.has_stairs());
-    for (g, own, other) in [(&storey, "banded clearance", "boundary edges"), (&floor, "boundary edges", "banded clearance")] {
+    for (g, own, other) in [(&storey, "banded clearance", "enclosed, boundary edges"), (&floor, "enclosed, boundary edges", "banded clearance")] {
         let n = names(g);
         assert_eq!(n.first(), Some(&"band edges"), "{n:?}");
         assert_eq!(n.last(), Some(&"corners"), "{n:?}");

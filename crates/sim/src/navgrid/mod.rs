@@ -9,6 +9,7 @@
 mod band_edges;
 mod build_laps;
 mod clearance;
+mod components;
 pub(crate) mod convex_vertices;
 mod floors;
 mod slice;
@@ -22,6 +23,8 @@ pub use stairs::StoreyBounds;
 pub(crate) use clearance::{closest_on_segment, SeenSegments, SegmentLine};
 
 use crate::scene::Scene;
+use components::components;
+pub(crate) use components::components_where;
 use raster::GridSpec;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -298,17 +301,24 @@ impl NavGrid {
         let cap = params.radius + 4.0 * res;
         let stairs = stairs::find(scene, params, &spec, floor_z, bounds);
         laps.lap("stairs");
-        let (mut clear, mut nearest, no_floor, drops) = if let Some(st) = &stairs {
+        // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away
+        // from). Its distance counts only below the segments' (at most `cap`): the transform
+        // is exact to a cell and a half beyond the cap, and infinite past that.
+        let edge_cap = (cap / res + 1.5).powi(2).ceil() as u32;
+        let (mut clear, mut nearest, no_floor, drops, edge) = if let Some(st) = &stairs {
             ground = st.ground.clone();
             let banded = storey_band::clearance(scene, params, &spec, floor_z, &ground, &mut occupied, &mut roof, cap);
             laps.lap("banded clearance");
             segs = banded.segments;
-            (banded.clear, banded.nearest, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), banded.drops)
+            let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+            let edge = clearance::edt(&no_floor, w, h, edge_cap);
+            (banded.clear, banded.nearest, no_floor, banded.drops, edge)
         } else {
-            fill_enclosed(&mut occupied, &ground, &roof, &spec);
-            laps.lap("enclosed");
-            segs = band_edges::boundary_edges(&segs, &sides);
-            laps.lap("boundary edges");
+            // The steps that do not read each other's results run side by side: the closed
+            // solids and the boundary edges, then the segments' distances and the edge's.
+            let ((), boundary) = rayon::join(|| fill_enclosed(&mut occupied, &ground, &roof, &spec), || band_edges::boundary_edges(&segs, &sides));
+            segs = boundary;
+            laps.lap("enclosed, boundary edges");
             // Cells off the region whose eight neighbours are off it too read no distance
             // and no nearest segment (their clearance is 0, and no test looks further).
             let off = |i: usize| occupied[i] || ground[i].is_nan();
@@ -319,14 +329,11 @@ impl NavGrid {
                     (r.saturating_sub(1)..=(r + 1).min(h - 1)).all(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).all(|x| off(y * w + x)))
                 })
                 .collect();
-            let (c, near) = clearance::segment_distance(&spec, &segs, cap, &deep);
-            laps.lap("segment distance");
-            // The edge of the floor is an obstacle too (no floor = a drop the agent must keep away from).
-            (c, near, ground.iter().map(|g| g.is_nan()).collect::<Vec<bool>>(), Vec::new())
+            let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+            let ((c, near), edge) = rayon::join(|| clearance::segment_distance(&spec, &segs, cap, &deep), || clearance::edt(&no_floor, w, h, edge_cap));
+            laps.lap("segment distance, edge transform");
+            (c, near, no_floor, Vec::new(), edge)
         };
-        // The edge's distance counts only below the segments' (at most `cap`): the transform
-        // is exact to a cell and a half beyond the cap, and infinite past that.
-        let edge = clearance::edt(&no_floor, w, h, (cap / res + 1.5).powi(2).ceil() as u32);
         for i in 0..n {
             if occupied[i] || no_floor[i] {
                 clear[i] = 0.0;
@@ -360,11 +367,12 @@ impl NavGrid {
             corner_graph: Default::default(),
             laps: BuildLaps::default(),
         };
-        grid.block_margin = crate::geodesic::block_margins(&grid);
-        grid.los_blocked = crate::geodesic::los_bits(&grid.block_margin);
-        laps.lap("line-of-sight margins");
-        grid.label_islands();
-        laps.lap("islands");
+        // The line-of-sight margins and the islands read neither the other.
+        let (margins, (labels, islands)) = rayon::join(|| crate::geodesic::block_margins(&grid), || grid.label_islands());
+        grid.los_blocked = crate::geodesic::los_bits(&margins);
+        grid.block_margin = margins;
+        (grid.island_of, grid.islands) = (labels, islands);
+        laps.lap("line-of-sight margins, islands");
         grid.find_corners();
         laps.lap("corners");
         grid.laps = laps;
@@ -619,34 +627,48 @@ impl NavGrid {
         g
     }
 
-    fn label_islands(&mut self) {
+    /// The islands of the navigable cells: each cell's island (`u32::MAX` off the region) and
+    /// each island's size, centroid and radius.
+    fn label_islands(&self) -> (Vec<u32>, Vec<Island>) {
         let (w, h) = (self.spec.w, self.spec.h);
         let nav: Vec<bool> = (0..w * h)
+            .into_par_iter()
             .map(|i| self.ground[i].is_finite() && self.clearance[i] as f64 >= self.params.radius)
             .collect();
         let (labels, sizes) = components(&nav, w, h);
+        // The cells' centres in cell order, each island's sums held in registers along a run
+        // of its cells (the same additions in the same order, so the same bits, without a
+        // store and load between each).
+        let (x0, y0, res) = (self.spec.x0, self.spec.y0, self.spec.res);
+        // Each row's runs of one island: (row, first column, columns, island).
+        let runs = || {
+            labels.chunks(w).enumerate().flat_map(|(r, row)| {
+                row.chunk_by(|a, b| a == b).scan(0, move |c, run| Some((r, std::mem::replace(c, *c + run.len()), run.len(), run[0]))).filter(|run| run.3 != u32::MAX)
+            })
+        };
         let mut sum = vec![[0.0f64; 2]; sizes.len()];
-        for i in 0..w * h {
-            if labels[i] != u32::MAX {
-                let p = self.center(i);
-                let s = &mut sum[labels[i] as usize];
-                s[0] += p[0];
-                s[1] += p[1];
+        for (r, c0, len, k) in runs() {
+            let (y, mut s) = (y0 + (r as f64 + 0.5) * res, sum[k as usize]);
+            for c in c0..c0 + len {
+                s[0] += x0 + (c as f64 + 0.5) * res;
+                s[1] += y;
             }
+            sum[k as usize] = s;
         }
         let centres: Vec<[f64; 2]> = sum.iter().zip(&sizes).map(|(s, &n)| [s[0] / n as f64, s[1] / n as f64]).collect();
         let mut radius = vec![0.0f64; sizes.len()];
-        for i in 0..w * h {
-            if labels[i] != u32::MAX {
-                let k = labels[i] as usize;
-                let p = self.center(i);
-                radius[k] = radius[k].max((p[0] - centres[k][0]).powi(2) + (p[1] - centres[k][1]).powi(2));
+        for (r, c0, len, k) in runs() {
+            let (y, o, mut m) = (y0 + (r as f64 + 0.5) * res, centres[k as usize], radius[k as usize]);
+            for c in c0..c0 + len {
+                let x = x0 + (c as f64 + 0.5) * res;
+                m = m.max((x - o[0]).powi(2) + (y - o[1]).powi(2));
             }
+            radius[k as usize] = m;
         }
         // (squared above: no libm call per cell)
         radius.iter_mut().for_each(|r| *r = r.sqrt());
         let a = self.spec.res * self.spec.res;
-        self.islands = (0..sizes.len())
+        let islands = (0..sizes.len())
             .map(|k| Island {
                 cells: sizes[k],
                 area: sizes[k] as f64 * a,
@@ -654,7 +676,7 @@ impl NavGrid {
                 radius: radius[k],
             })
             .collect();
-        self.island_of = labels;
+        (labels, islands)
     }
 
     /// The point of cell `i`'s nearest obstacle segment closest to `p` (m), if the cell has one.
@@ -712,13 +734,21 @@ impl NavGrid {
         any.then_some(true)
     }
 
+    /// Marks the bend points (navigable cells on the region's boundary) and moves each onto
+    /// the true boundary, the radius from its nearest obstacle (rows in parallel).
     fn find_corners(&mut self) {
         let (w, h) = (self.spec.w as isize, self.spec.h as isize);
         let r = self.params.radius;
-        let nav = |c: isize, rr: isize| c >= 0 && rr >= 0 && c < w && rr < h && self.island_of[(rr * w + c) as usize] != u32::MAX;
-        let mut anchor: Vec<[f64; 2]> = (0..(w * h) as usize).map(|i| self.center(i)).collect();
-        for rr in 0..h {
+        let mut corner = std::mem::take(&mut self.corner);
+        let mut anchor: Vec<[f64; 2]> = vec![[0.0; 2]; (w * h) as usize];
+        let this = &*self;
+        let nav = |c: isize, rr: isize| c >= 0 && rr >= 0 && c < w && rr < h && this.island_of[(rr * w + c) as usize] != u32::MAX;
+        corner.par_chunks_mut(w as usize).zip(anchor.par_chunks_mut(w as usize)).enumerate().for_each(|(rr, (corner, anchor))| {
+            let rr = rr as isize;
             for c in 0..w {
+                let i = (rr * w + c) as usize;
+                let p = this.center(i);
+                anchor[c as usize] = p;
                 if !nav(c, rr) {
                     continue;
                 }
@@ -728,19 +758,18 @@ impl NavGrid {
                 if !on_boundary {
                     continue;
                 }
-                let i = (rr * w + c) as usize;
-                self.corner[i] = true;
+                corner[c as usize] = true;
                 // Move the bend point onto the true boundary: radius r from the nearest obstacle.
-                if let Some(q) = self.nearest_point(i, self.center(i)) {
-                    let p = self.center(i);
+                if let Some(q) = this.nearest_point(i, p) {
                     let d = [p[0] - q[0], p[1] - q[1]];
                     let l = d[0].hypot(d[1]);
                     if l > 1e-9 {
-                        anchor[i] = [q[0] + d[0] / l * r, q[1] + d[1] / l * r];
+                        anchor[c as usize] = [q[0] + d[0] / l * r, q[1] + d[1] / l * r];
                     }
                 }
             }
-        }
+        });
+        self.corner = corner;
         self.anchor = anchor;
     }
 }
@@ -776,52 +805,6 @@ fn fill_enclosed(occupied: &mut [bool], ground: &[f32], roof: &[(f32, bool)], sp
             occupied[i] = true;
         }
     }
-}
-
-/// 4-connected components of `mask`: label per cell (`u32::MAX` outside) and size per label.
-fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<usize>) {
-    components_where(mask, w, h, |_, _| true)
-}
-
-/// [`components`] where neighbouring cells `i` and `j` of `mask` are joined only when
-/// `joins(i, j)` (a flight's treads: within a climb of each other).
-pub(crate) fn components_where(mask: &[bool], w: usize, h: usize, joins: impl Fn(usize, usize) -> bool) -> (Vec<u32>, Vec<usize>) {
-    let mut labels = vec![u32::MAX; w * h];
-    let mut sizes = Vec::new();
-    let mut stack = Vec::new();
-    for s in 0..w * h {
-        if !mask[s] || labels[s] != u32::MAX {
-            continue;
-        }
-        let k = sizes.len() as u32;
-        labels[s] = k;
-        stack.push(s);
-        let mut n = 0;
-        while let Some(i) = stack.pop() {
-            n += 1;
-            let (c, r) = (i % w, i / w);
-            let mut visit = |j: usize| {
-                if mask[j] && labels[j] == u32::MAX && joins(i, j) {
-                    labels[j] = k;
-                    stack.push(j);
-                }
-            };
-            if c > 0 {
-                visit(i - 1);
-            }
-            if c + 1 < w {
-                visit(i + 1);
-            }
-            if r > 0 {
-                visit(i - w);
-            }
-            if r + 1 < h {
-                visit(i + w);
-            }
-        }
-        sizes.push(n);
-    }
-    (labels, sizes)
 }
 
 fn validate(p: &AgentParams) -> Result<(), NavGridError> {
