@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use xhab_types::Point2;
 
 /// Angular step of the bend points placed on the arcs about the obstacles' vertices (degrees).
-const ARC_STEP_DEG: f64 = 30.0;
+pub(super) const ARC_STEP_DEG: f64 = 30.0;
 
 /// Bend points on the arcs about the convex vertices of the obstacle segments in narrow
 /// passages: every [`ARC_STEP_DEG`] on a circle just wide enough that the chord between two

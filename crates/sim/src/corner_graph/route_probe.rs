@@ -11,6 +11,8 @@
 //! `heuristic_floor`: how much of the search's work a better heuristic could save at best.
 //!
 //! `square_pvs`: how many failed lines of sight a set of nodes seen per 1 m square would spare.
+//!
+//! `node_arcs`: how many nodes thinning the arcs about the obstacles' vertices would leave.
 
 use super::*;
 use std::sync::Arc;
@@ -300,6 +302,72 @@ fn square_pvs() {
             mean(1),
             mean(2),
             mean(3)
+        );
+    }
+}
+
+/// `node_arcs`: how many of the graph's nodes stand on the arc about one obstacle vertex,
+/// and how many an arc would keep at one node every [`passages::ARC_STEP_DEG`] (the spacing
+/// the passages' arc nodes use): what thinning the arcs could take off the node count, which
+/// the legs' build (pairs of nodes) and the queries' seeds grow with. Nodes are grouped by
+/// the nearest end of an obstacle segment near their cell, within the radius and a cell.
+///
+/// `cargo test --release -p xhab-sim --lib node_arcs -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn node_arcs() {
+    for scene in ["turtlebot3_house.glb", "aws_small_house.glb"] {
+        let Some(grid) = house_grid("node_arcs", scene) else { continue };
+        let g = grid.corner_graph().clone();
+        let reach = grid.params.radius + grid.resolution();
+        // Each node's vertex (quantised to 10 micrometres), if one is near.
+        let vertex: Vec<Option<(i64, i64)>> = (0..g.len())
+            .map(|k| {
+                let p = g.pos(k);
+                let i = grid.cell_of(p2(p))?;
+                let v = grid.nearest_around(i).flat_map(|s| grid.segments[s as usize]).min_by(|a, b| dist2(*a, p).total_cmp(&dist2(*b, p)))?;
+                (dist2(v, p) <= reach).then(|| ((v[0] * 1e5).round() as i64, (v[1] * 1e5).round() as i64))
+            })
+            .collect();
+        let mut groups: std::collections::BTreeMap<(i64, i64), Vec<f64>> = Default::default();
+        for (k, v) in vertex.iter().enumerate() {
+            if let Some(v) = v {
+                let p = g.pos(k);
+                groups.entry(*v).or_default().push((p[1] - v.1 as f64 / 1e5).atan2(p[0] - v.0 as f64 / 1e5));
+            }
+        }
+        let step = passages::ARC_STEP_DEG.to_radians();
+        let (mut kept, mut sizes) = (0usize, [0usize; 5]);
+        for angles in groups.values_mut() {
+            angles.sort_by(f64::total_cmp);
+            let gap = angles.windows(2).map(|w| w[1] - w[0]).fold(angles[0] + std::f64::consts::TAU - angles[angles.len() - 1], f64::max);
+            let span = std::f64::consts::TAU - gap;
+            kept += (span / step).ceil() as usize + 1;
+            sizes[match angles.len() {
+                1 => 0,
+                2..=3 => 1,
+                4..=6 => 2,
+                7..=10 => 3,
+                _ => 4,
+            }] += 1;
+        }
+        let on_arcs = vertex.iter().filter(|v| v.is_some()).count();
+        let same = (0..g.len()).map(|k| g.legs(k).filter(|&(b, _)| vertex[k].is_some() && vertex[k] == vertex[b as usize]).count()).sum::<usize>() / 2;
+        eprintln!(
+            "{scene}: {} nodes, {} on the arcs of {} vertices (per vertex: 1 node {}, 2-3 {}, 4-6 {}, 7-10 {}, more {}); one every {} degrees would keep {} of those {}; {} of the {} legs join two nodes of one arc",
+            g.len(),
+            on_arcs,
+            groups.len(),
+            sizes[0],
+            sizes[1],
+            sizes[2],
+            sizes[3],
+            sizes[4],
+            passages::ARC_STEP_DEG,
+            kept.min(on_arcs),
+            on_arcs,
+            same,
+            g.leg_count()
         );
     }
 }
