@@ -208,9 +208,7 @@ impl Plane {
     /// The triangle's plane, if it is at most [`STEEPEST_PLANE_COS`] from level (steeper ones,
     /// walls, have no cell wholly inside their projection worth the arithmetic).
     fn of(t: &[[f64; 3]; 3]) -> Option<Plane> {
-        let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
-        let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
-        let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+        let n = normal(t);
         let n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         if !(n[2] * n[2] >= STEEPEST_PLANE_COS * STEEPEST_PLANE_COS * n2) || n2 == 0.0 {
             return None;
@@ -257,12 +255,18 @@ fn inner_span(t: &[[f64; 3]; 3], ya: f64, yb: f64) -> (f64, f64) {
     (a.0.max(b.0) + INNER_MARGIN, a.1.min(b.1) - INNER_MARGIN)
 }
 
+/// A triangle's normal, not normalised: the cross product of its edges from the first corner
+/// (twice its area long; counter-clockwise winding seen from outside gives the outward side).
+fn normal(t: &[[f64; 3]; 3]) -> [f64; 3] {
+    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
+    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
+    [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+}
+
 /// Unit normal's z component magnitude of a triangle (1 for horizontal, 0 for vertical);
 /// `None` for a degenerate triangle.
 pub(crate) fn abs_normal_z(t: &[[f64; 3]; 3]) -> Option<f64> {
-    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
-    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
-    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let n = normal(t);
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if len <= 1e-12 {
         return None;
@@ -273,9 +277,7 @@ pub(crate) fn abs_normal_z(t: &[[f64; 3]; 3]) -> Option<f64> {
 /// Sign of the triangle's normal's z component (+1 facing up, -1 facing down, 0 vertical),
 /// for counter-clockwise winding seen from outside.
 pub(crate) fn normal_z_sign(t: &[[f64; 3]; 3]) -> f64 {
-    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1]];
-    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1]];
-    let nz = u[0] * v[1] - u[1] * v[0];
+    let nz = normal(t)[2];
     if nz.abs() < 1e-12 {
         0.0
     } else {
@@ -285,9 +287,7 @@ pub(crate) fn normal_z_sign(t: &[[f64; 3]; 3]) -> f64 {
 
 /// Area of a triangle (m^2) and of its projection on the ground plane (m^2).
 pub(crate) fn areas(t: &[[f64; 3]; 3]) -> (f64, f64) {
-    let u = [t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]];
-    let v = [t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]];
-    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let n = normal(t);
     (0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt(), 0.5 * n[2].abs())
 }
 
