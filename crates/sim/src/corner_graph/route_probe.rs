@@ -15,6 +15,7 @@
 //! `node_arcs`: how many nodes thinning the arcs about the obstacles' vertices would leave.
 
 use super::*;
+use crate::navgrid::convex_vertices::{vertex_key, widest_gap};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -320,28 +321,29 @@ fn node_arcs() {
         let Some(grid) = house_grid("node_arcs", scene) else { continue };
         let g = grid.corner_graph().clone();
         let reach = grid.params.radius + grid.resolution();
-        // Each node's vertex (quantised to 10 micrometres), if one is near.
-        let vertex: Vec<Option<(i64, i64)>> = (0..g.len())
+        // Each node's vertex, if one is near.
+        let vertex: Vec<Option<[f64; 2]>> = (0..g.len())
             .map(|k| {
                 let p = g.pos(k);
                 let i = grid.cell_of(p2(p))?;
                 let v = grid.nearest_around(i).flat_map(|s| grid.segments[s as usize]).min_by(|a, b| dist2(*a, p).total_cmp(&dist2(*b, p)))?;
-                (dist2(v, p) <= reach).then(|| ((v[0] * 1e5).round() as i64, (v[1] * 1e5).round() as i64))
+                (dist2(v, p) <= reach).then_some(v)
             })
             .collect();
+        let key = |k: usize| vertex[k].map(vertex_key);
+        // Each vertex's nodes, as directions from it (rad).
         let mut groups: std::collections::BTreeMap<(i64, i64), Vec<f64>> = Default::default();
         for (k, v) in vertex.iter().enumerate() {
             if let Some(v) = v {
                 let p = g.pos(k);
-                groups.entry(*v).or_default().push((p[1] - v.1 as f64 / 1e5).atan2(p[0] - v.0 as f64 / 1e5));
+                groups.entry(vertex_key(*v)).or_default().push((p[1] - v[1]).atan2(p[0] - v[0]));
             }
         }
         let step = passages::ARC_STEP_DEG.to_radians();
         let (mut kept, mut sizes) = (0usize, [0usize; 5]);
         for angles in groups.values_mut() {
             angles.sort_by(f64::total_cmp);
-            let gap = angles.windows(2).map(|w| w[1] - w[0]).fold(angles[0] + std::f64::consts::TAU - angles[angles.len() - 1], f64::max);
-            let span = std::f64::consts::TAU - gap;
+            let span = std::f64::consts::TAU - widest_gap(angles.iter().copied());
             kept += (span / step).ceil() as usize + 1;
             sizes[match angles.len() {
                 1 => 0,
@@ -352,7 +354,7 @@ fn node_arcs() {
             }] += 1;
         }
         let on_arcs = vertex.iter().filter(|v| v.is_some()).count();
-        let same = (0..g.len()).map(|k| g.legs(k).filter(|&(b, _)| vertex[k].is_some() && vertex[k] == vertex[b as usize]).count()).sum::<usize>() / 2;
+        let same = (0..g.len()).map(|k| g.legs(k).filter(|&(b, _)| key(k).is_some() && key(k) == key(b as usize)).count()).sum::<usize>() / 2;
         eprintln!(
             "{scene}: {} nodes, {} on the arcs of {} vertices (per vertex: 1 node {}, 2-3 {}, 4-6 {}, 7-10 {}, more {}); one every {} degrees would keep {} of those {}; {} of the {} legs join two nodes of one arc",
             g.len(),

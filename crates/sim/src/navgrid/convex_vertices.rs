@@ -9,7 +9,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 /// A vertex's cell on a 10 micrometre lattice (truncated, without a libm call): segment ends
 /// that meet share it.
-fn vertex_key(v: [f64; 2]) -> (i64, i64) {
+pub(crate) fn vertex_key(v: [f64; 2]) -> (i64, i64) {
     const Q: f64 = 1e5;
     ((v[0] * Q) as i64, (v[1] * Q) as i64)
 }
@@ -53,9 +53,7 @@ impl ConvexVertices {
         dirs.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
         let mut flat = vec![false; index.len()];
         for group in dirs.chunk_by(|x, y| x.0 == y.0) {
-            let (first, last) = (group[0].1, group[group.len() - 1].1);
-            let gap = group.windows(2).map(|w| w[1].1 - w[0].1).fold(first + std::f64::consts::TAU - last, f64::max);
-            flat[group[0].0 as usize] = gap <= std::f64::consts::PI + CONVEX_GAP;
+            flat[group[0].0 as usize] = widest_gap(group.iter().map(|d| d.1)) <= std::f64::consts::PI + CONVEX_GAP;
         }
         ConvexVertices { convex: index.iter().map(|(&k, &j)| (k, !flat[j as usize])).collect() }
     }
@@ -64,6 +62,19 @@ impl ConvexVertices {
     pub(crate) fn is_convex(&self, v: [f64; 2]) -> bool {
         self.convex.get(&vertex_key(v)).copied().unwrap_or(true)
     }
+}
+
+/// The widest gap (rad) between consecutive directions around a point, given them sorted in
+/// `[-pi, pi]`, the gap from the last round to the first included (a whole turn for one
+/// direction, 0 for none).
+pub(crate) fn widest_gap(mut sorted: impl Iterator<Item = f64>) -> f64 {
+    let Some(first) = sorted.next() else { return 0.0 };
+    let (mut last, mut gap) = (first, f64::NEG_INFINITY);
+    for a in sorted {
+        gap = gap.max(a - last);
+        last = a;
+    }
+    gap.max(first + std::f64::consts::TAU - last)
 }
 
 /// FxHash's multiply-rotate hash: fast for the lattice keys, and the same on every run.
