@@ -305,14 +305,18 @@ impl NavGrid {
         // from). Its distance counts only below the segments' (at most `cap`): the transform
         // is exact to a cell and a half beyond the cap, and infinite past that.
         let edge_cap = (cap / res + 1.5).powi(2).ceil() as u32;
-        let (mut clear, mut nearest, no_floor, drops, edge) = if let Some(st) = &stairs {
+        // The cells without floor, and each cell's distance to them (cells).
+        let floor_edge = |ground: &[f32]| {
+            let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
+            let edge = clearance::edt(&no_floor, w, h, edge_cap);
+            (no_floor, edge)
+        };
+        let (mut clear, mut nearest, drops, (no_floor, edge)) = if let Some(st) = &stairs {
             ground = st.ground.clone();
             let banded = storey_band::clearance(scene, params, &spec, floor_z, &ground, &mut occupied, &mut roof, cap);
             laps.lap("banded clearance");
             segs = banded.segments;
-            let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
-            let edge = clearance::edt(&no_floor, w, h, edge_cap);
-            (banded.clear, banded.nearest, no_floor, banded.drops, edge)
+            (banded.clear, banded.nearest, banded.drops, floor_edge(&ground))
         } else {
             // The steps that do not read each other's results run side by side: the closed
             // solids and the boundary edges, then the segments' distances and the edge's.
@@ -329,10 +333,9 @@ impl NavGrid {
                     (r.saturating_sub(1)..=(r + 1).min(h - 1)).all(|y| (c.saturating_sub(1)..=(c + 1).min(w - 1)).all(|x| off(y * w + x)))
                 })
                 .collect();
-            let no_floor: Vec<bool> = ground.iter().map(|g| g.is_nan()).collect();
-            let ((c, near), edge) = rayon::join(|| clearance::segment_distance(&spec, &segs, cap, &deep), || clearance::edt(&no_floor, w, h, edge_cap));
+            let ((c, near), floor) = rayon::join(|| clearance::segment_distance(&spec, &segs, cap, &deep), || floor_edge(&ground));
             laps.lap("segment distance, edge transform");
-            (c, near, no_floor, Vec::new(), edge)
+            (c, near, Vec::new(), floor)
         };
         for i in 0..n {
             if occupied[i] || no_floor[i] {
