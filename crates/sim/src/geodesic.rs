@@ -168,7 +168,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 pub(crate) const LOS_EPS: f64 = 0.003;
 
 /// A bound (in cells) on the distance from a cell's centre to any point of the cell.
-const HALF_DIAGONAL: f64 = 0.7072;
+pub(crate) const HALF_DIAGONAL: f64 = 0.7072;
 
 /// Cells between the samples of [`segment_clear`]'s first pass.
 const SAMPLE_STRIDE: f64 = 6.0;

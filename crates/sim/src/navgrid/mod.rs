@@ -125,6 +125,11 @@ pub struct NavGrid {
     /// Index of the segment nearest to each cell centre, when a segment is the nearest
     /// obstacle and within reach (`u32::MAX` otherwise).
     pub(crate) nearest: Vec<u32>,
+    /// Per cell that a line-of-sight walk tests against its neighbours' segments (clearance
+    /// above 0 and under the radius plus a half-diagonal), the distinct [`nearest`](Self::nearest)
+    /// segments of its 3 x 3 block, in the block's row order, `u32::MAX` after the last;
+    /// [`MANY_NEAR`] first where there are more than four; all `u32::MAX` elsewhere.
+    pub(crate) near_segs: Vec<[u32; 4]>,
     /// Per cell, the line-of-sight tolerance (m) below which every segment through the cell
     /// fails [`segment_clear`](crate::geodesic::segment_clear) there (see
     /// [`block_margins`](crate::geodesic::block_margins)).
@@ -142,6 +147,10 @@ pub struct NavGrid {
 
 /// Rows of the grid one thread rasterises at a time in [`NavGrid::build_storey`].
 const RASTER_BAND_ROWS: usize = 16;
+
+/// [`NavGrid::near_segs`]' mark of a cell whose 3 x 3 block has more than four distinct
+/// nearest segments (its walk looks at the block's cells instead).
+const MANY_NEAR: u32 = u32::MAX - 1;
 
 /// Triangles one thread sorts at a time in [`NavGrid::build_storey`].
 const GATHER_CHUNK: usize = 4096;
@@ -364,16 +373,20 @@ impl NavGrid {
             segments: segs,
             stair: stairs.map(|s| s.stair).unwrap_or_default(),
             nearest,
+            near_segs: Vec::new(),
             block_margin: Vec::new(),
             los_blocked: Vec::new(),
             fields: Default::default(),
             corner_graph: Default::default(),
             laps: BuildLaps::default(),
         };
-        // The line-of-sight margins and the islands read neither the other.
-        let (margins, (labels, islands)) = rayon::join(|| crate::geodesic::block_margins(&grid), || grid.label_islands());
+        // The line-of-sight margins, the cells' near segments and the islands read none of the
+        // others.
+        let ((margins, near), (labels, islands)) =
+            rayon::join(|| rayon::join(|| crate::geodesic::block_margins(&grid), || grid.near_segments()), || grid.label_islands());
         grid.los_blocked = crate::geodesic::los_bits(&margins);
         grid.block_margin = margins;
+        grid.near_segs = near;
         (grid.island_of, grid.islands) = (labels, islands);
         laps.lap("line-of-sight margins, islands");
         grid.find_corners();
@@ -715,6 +728,24 @@ impl NavGrid {
     /// [`NavGrid::nearest_around`]: it runs per cell of a line-of-sight walk, where the
     /// iterator cost the corner graph's build 5% on aws_small_house.
     pub(crate) fn nearest_segments_clear(&self, i: usize, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
+        let near = self.near_segs[i];
+        if near[0] == MANY_NEAR {
+            return self.block_segments_clear(i, line, min, seen);
+        }
+        for k in near.into_iter().take_while(|&k| k != u32::MAX) {
+            if seen.contains(k) {
+                continue;
+            }
+            if !line.clear_of(&self.segments[k as usize], min) {
+                return Some(false);
+            }
+            seen.insert(k);
+        }
+        (near[0] != u32::MAX).then_some(true)
+    }
+
+    /// [`NavGrid::nearest_segments_clear`] from the 3 x 3 block's cells themselves.
+    fn block_segments_clear(&self, i: usize, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
         let (w, h) = (self.spec.w, self.spec.h);
         let (c, r) = (i % w, i / w);
         let mut any = false;
@@ -735,6 +766,39 @@ impl NavGrid {
             }
         }
         any.then_some(true)
+    }
+
+    /// [`NavGrid::near_segs`] of every cell (rows in parallel).
+    fn near_segments(&self) -> Vec<[u32; 4]> {
+        let (w, h) = (self.spec.w, self.spec.h);
+        // The same bound as the walk's, in the same arithmetic.
+        let sure = self.params.radius + crate::geodesic::HALF_DIAGONAL * self.spec.res;
+        let mut out = vec![[u32::MAX; 4]; w * h];
+        out.par_chunks_mut(w).enumerate().for_each(|(r, row)| {
+            for (c, near) in row.iter_mut().enumerate() {
+                let cl = self.clearance[r * w + c];
+                // The walk settles other cells by their clearance alone (see `segment_clear`).
+                if !(cl > 0.0 && (cl as f64) < sure) {
+                    continue;
+                }
+                let mut m = 0;
+                'block: for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
+                    for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
+                        let k = self.nearest[rr * w + cc];
+                        if k == u32::MAX || near[..m].contains(&k) {
+                            continue;
+                        }
+                        if m == near.len() {
+                            *near = [MANY_NEAR, u32::MAX, u32::MAX, u32::MAX];
+                            break 'block;
+                        }
+                        near[m] = k;
+                        m += 1;
+                    }
+                }
+            }
+        });
+        out
     }
 
     /// Marks the bend points (navigable cells on the region's boundary) and moves each onto
