@@ -214,7 +214,9 @@ impl Srgb {
         // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound. No bin
         // holds two steps (a test checks), so one comparison finishes; entry 511 (2) stands
         // after the last step.
-        let c = self.start[((x * ENCODE_BINS as f32) as usize).min(ENCODE_BINS - 1)] as usize;
+        // (x in (0, 1), so the bin is in 0..ENCODE_BINS: the cast to i32 and the mask change
+        // nothing but spare a saturating cast to usize and a bounds check.)
+        let c = self.start[(x * ENCODE_BINS as f32) as i32 as usize & (ENCODE_BINS - 1)] as usize;
         (c + (self.table[256 + c] <= x) as usize) as u8
     }
 }
