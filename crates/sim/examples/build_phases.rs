@@ -3,12 +3,13 @@
 //! three; this splits it).
 //!
 //! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
-//! [--pairs M]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
+//! [--pairs M] [--each]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
 //! `../shared`, 5 runs, no pairs). Prints each phase's best time over the runs (ms), with the
 //! grid's size, the graph's nodes and legs, and a hash of the grid's cells, then the best
 //! time of each step of the grid's build ([`NavGrid::build_laps`]); with `--pairs`,
 //! also the rate of M cold pair queries between seeded random navigable points (this thread)
-//! and a hash of their distances' bits. The hashes tell whether a change to the build changed
+//! and a hash of their distances' bits; with `--each`, every run's times (the first run of a
+//! process is the cold one a user waits for). The hashes tell whether a change to the build changed
 //! the grid or any answer.
 
 use rand::SeedableRng;
@@ -34,6 +35,13 @@ fn main() {
     };
     let runs = flag("--runs", 5);
     let pairs = flag("--pairs", 0);
+    let each = match args.iter().position(|a| a == "--each") {
+        Some(i) => {
+            args.remove(i);
+            true
+        }
+        None => false,
+    };
     if args.is_empty() {
         // The shared data, as the tests find it.
         let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
@@ -72,6 +80,9 @@ fn main() {
             let t2 = t.elapsed().as_secs_f64();
             let graph = grid.corner_graph();
             let t3 = t.elapsed().as_secs_f64();
+            if each {
+                println!("  run {}: floors {:.1} ms, grid {:.1} ms, corner graph {:.1} ms, total {:.1} ms", run + 1, t1 * 1e3, (t2 - t1) * 1e3, (t3 - t2) * 1e3, t3 * 1e3);
+            }
             for (b, v) in best.iter_mut().zip([t1, t2 - t1, t3 - t2]) {
                 *b = b.min(v);
             }
