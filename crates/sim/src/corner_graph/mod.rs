@@ -23,12 +23,12 @@
 use crate::geodesic::{segment_clear, LOS_EPS};
 use crate::navgrid::convex_vertices::ConvexVertices;
 use crate::navgrid::{closest_on_segment, NavGrid};
+use cut_heap::CutHeap;
 use passages::{arc_nodes, arc_radius, arc_reach, arc_vertex, passage_cells};
 use rayon::prelude::*;
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 use xhab_types::Point2;
 
+mod cut_heap;
 mod passages;
 #[cfg(test)]
 mod route_probe;
@@ -301,14 +301,15 @@ impl CornerGraph {
             // (less a nanometre, for rounding) of its nodes' seed keys, so it is taken before
             // any of them would have been: the nodes come in the order they would have come
             // had every seed been pushed at the start. The squares are heapified at once.
-            let mut seeds = std::mem::take(heap).into_vec();
             let direct = dist2(g, s);
-            seeds.extend(self.bucket_rect.iter().enumerate().map(|(b, r)| {
-                let bound = (rect_dist(r, g) + rect_dist(r, s)).max(direct) - 1e-9;
-                Reverse((bound.max(0.0).to_bits(), b as u32))
-            }));
-            *heap = BinaryHeap::from(seeds);
-            while let Some(Reverse((key, tag))) = heap.pop() {
+            heap.reset(
+                direct * QUEUE_CUT,
+                self.bucket_rect.iter().enumerate().map(|(b, r)| {
+                    let bound = (rect_dist(r, g) + rect_dist(r, s)).max(direct) - 1e-9;
+                    (bound.max(0.0).to_bits(), b as u32)
+                }),
+            );
+            while let Some((key, tag)) = heap.pop() {
                 if tag < NODE {
                     let b = tag as usize;
                     for &k in &self.bucket_nodes[self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize] {
@@ -316,7 +317,7 @@ impl CornerGraph {
                         // now rather than when it comes up (the same answer, fewer entries).
                         if self.island[k as usize] == ia && self.may_join(grid, k as usize, g, eg) != Some(false) {
                             let a = self.pos[k as usize];
-                            heap.push(Reverse(((dist2(g, a) + line(k as usize)).to_bits(), NODE | k << 1 | 1)));
+                            heap.push(((dist2(g, a) + line(k as usize)).to_bits(), NODE | k << 1 | 1));
                         }
                     }
                     continue;
@@ -347,7 +348,7 @@ impl CornerGraph {
                     let nd = dk + l;
                     if nd < dist[b as usize] {
                         dist[b as usize] = nd;
-                        heap.push(Reverse(((nd + line(b as usize)).to_bits(), NODE | b << 1)));
+                        heap.push(((nd + line(b as usize)).to_bits(), NODE | b << 1));
                     }
                 }
             }
@@ -355,6 +356,10 @@ impl CornerGraph {
         })
     }
 }
+
+/// Where a query's queue starts keeping entries out of its heap: at this many times the
+/// straight line between the ends (see [`CutHeap`]).
+const QUEUE_CUT: f64 = 1.1;
 
 /// The tag bit of a node's heap entry in [`CornerGraph::distance`]'s search (a square's tag
 /// is its index, below it).
@@ -367,7 +372,7 @@ const NODE: u32 = 1 << 31;
 struct Scratch {
     dist: Vec<f64>,
     to_from: Vec<f64>,
-    heap: BinaryHeap<Reverse<(u64, u32)>>,
+    heap: CutHeap,
 }
 
 impl Scratch {
@@ -376,7 +381,6 @@ impl Scratch {
         self.dist.resize(n, f64::INFINITY);
         self.to_from.clear();
         self.to_from.resize(n, f64::NAN);
-        self.heap.clear();
     }
 }
 

@@ -16,6 +16,8 @@
 
 use super::*;
 use crate::navgrid::convex_vertices::{vertex_key, widest_gap};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 use std::sync::Arc;
 use std::time::Instant;
 
