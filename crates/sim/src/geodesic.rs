@@ -168,7 +168,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 pub(crate) const LOS_EPS: f64 = 0.003;
 
 /// A bound (in cells) on the distance from a cell's centre to any point of the cell.
-pub(crate) const HALF_DIAGONAL: f64 = 0.7072;
+const HALF_DIAGONAL: f64 = 0.7072;
 
 /// Cells between the samples of [`segment_clear`]'s first pass.
 const SAMPLE_STRIDE: f64 = 6.0;
@@ -187,7 +187,7 @@ pub(crate) fn block_margins(grid: &NavGrid) -> Vec<f32> {
     let (w, h) = grid.size();
     let res = grid.resolution();
     let r = grid.params.radius;
-    let sure = r + HALF_DIAGONAL * res;
+    let sure = sure_clearance(grid);
     (0..w * h)
         .map(|i| {
             let cl = grid.clearance[i] as f64;
@@ -211,6 +211,13 @@ pub(crate) fn block_margins(grid: &NavGrid) -> Vec<f32> {
             }
         })
         .collect()
+}
+
+/// The clearance (m) from which every segment through a cell is clear there: the radius plus
+/// the cell's half-diagonal. [`segment_clear`]'s walk settles a cell by its clearance alone
+/// from here up (and at 0, off the region); between, it reads the cell's near segments.
+pub(crate) fn sure_clearance(grid: &NavGrid) -> f64 {
+    grid.params.radius + HALF_DIAGONAL * grid.resolution()
 }
 
 /// One bit per cell: whether its block margin (see [`block_margins`]) exceeds [`LOS_EPS`].
@@ -239,7 +246,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let res = grid.resolution();
     let o = grid.origin();
     let r = grid.params.radius;
-    let sure = r + HALF_DIAGONAL * res;
+    let sure = sure_clearance(grid);
     // The end points in cells.
     let fx0 = (a[0] - o.x) / res;
     let fy0 = (a[1] - o.y) / res;

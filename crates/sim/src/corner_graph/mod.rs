@@ -367,7 +367,7 @@ const NODE: u32 = 1 << 31;
 
 /// Reusable per-thread search arrays: the distance from the goal so far per node (minus
 /// infinity once settled), the straight line from each node to the query's start (m; NaN
-/// until needed) and the heap.
+/// until needed) and the queue.
 #[derive(Default)]
 struct Scratch {
     dist: Vec<f64>,

@@ -724,15 +724,23 @@ impl NavGrid {
     /// [`NavGrid::nearest_around`] cell `i` (the same answer as comparing
     /// [`NavGrid::nearest_segment_distance`] with `min`), if it has any; stops at the first
     /// that comes nearer. `seen` holds segments already found clear of this line (a walk's
-    /// cells share most neighbours), and takes those found here. Written out rather than over
-    /// [`NavGrid::nearest_around`]: it runs per cell of a line-of-sight walk, where the
-    /// iterator cost the corner graph's build 5% on aws_small_house.
+    /// cells share most neighbours), and takes those found here. It runs per cell of a
+    /// line-of-sight walk, so it reads the block's distinct segments from
+    /// [`NavGrid::near_segs`] (the block itself only where they are too many).
     pub(crate) fn nearest_segments_clear(&self, i: usize, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
         let near = self.near_segs[i];
         if near[0] == MANY_NEAR {
-            return self.block_segments_clear(i, line, min, seen);
+            return self.segments_clear(self.nearest_around(i), line, min, seen);
         }
-        for k in near.into_iter().take_while(|&k| k != u32::MAX) {
+        self.segments_clear(near.into_iter().take_while(|&k| k != u32::MAX), line, min, seen)
+    }
+
+    /// [`NavGrid::nearest_segments_clear`] over the obstacle segments `ids`.
+    #[inline(always)]
+    fn segments_clear(&self, ids: impl Iterator<Item = u32>, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
+        let mut any = false;
+        for k in ids {
+            any = true;
             if seen.contains(k) {
                 continue;
             }
@@ -741,60 +749,33 @@ impl NavGrid {
             }
             seen.insert(k);
         }
-        (near[0] != u32::MAX).then_some(true)
-    }
-
-    /// [`NavGrid::nearest_segments_clear`] from the 3 x 3 block's cells themselves.
-    fn block_segments_clear(&self, i: usize, line: &SegmentLine, min: f64, seen: &mut SeenSegments) -> Option<bool> {
-        let (w, h) = (self.spec.w, self.spec.h);
-        let (c, r) = (i % w, i / w);
-        let mut any = false;
-        for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
-            for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
-                let k = self.nearest[rr * w + cc];
-                if k == u32::MAX {
-                    continue;
-                }
-                any = true;
-                if seen.contains(k) {
-                    continue;
-                }
-                if !line.clear_of(&self.segments[k as usize], min) {
-                    return Some(false);
-                }
-                seen.insert(k);
-            }
-        }
         any.then_some(true)
     }
 
     /// [`NavGrid::near_segs`] of every cell (rows in parallel).
     fn near_segments(&self) -> Vec<[u32; 4]> {
-        let (w, h) = (self.spec.w, self.spec.h);
-        // The same bound as the walk's, in the same arithmetic.
-        let sure = self.params.radius + crate::geodesic::HALF_DIAGONAL * self.spec.res;
-        let mut out = vec![[u32::MAX; 4]; w * h];
+        let w = self.spec.w;
+        let sure = crate::geodesic::sure_clearance(self);
+        let mut out = vec![[u32::MAX; 4]; w * self.spec.h];
         out.par_chunks_mut(w).enumerate().for_each(|(r, row)| {
             for (c, near) in row.iter_mut().enumerate() {
-                let cl = self.clearance[r * w + c];
+                let i = r * w + c;
                 // The walk settles other cells by their clearance alone (see `segment_clear`).
-                if !(cl > 0.0 && (cl as f64) < sure) {
+                let cl = self.clearance[i] as f64;
+                if !(cl > 0.0 && cl < sure) {
                     continue;
                 }
                 let mut m = 0;
-                'block: for rr in r.saturating_sub(1)..=(r + 1).min(h - 1) {
-                    for cc in c.saturating_sub(1)..=(c + 1).min(w - 1) {
-                        let k = self.nearest[rr * w + cc];
-                        if k == u32::MAX || near[..m].contains(&k) {
-                            continue;
-                        }
-                        if m == near.len() {
-                            *near = [MANY_NEAR, u32::MAX, u32::MAX, u32::MAX];
-                            break 'block;
-                        }
-                        near[m] = k;
-                        m += 1;
+                for k in self.nearest_around(i) {
+                    if near[..m].contains(&k) {
+                        continue;
                     }
+                    if m == near.len() {
+                        *near = [MANY_NEAR, u32::MAX, u32::MAX, u32::MAX];
+                        break;
+                    }
+                    near[m] = k;
+                    m += 1;
                 }
             }
         });
