@@ -130,6 +130,9 @@ pub struct NavGrid {
     /// segments of its 3 x 3 block, in the block's row order, `u32::MAX` after the last;
     /// [`MANY_NEAR`] first where there are more than four; all `u32::MAX` elsewhere.
     pub(crate) near_segs: Vec<[u32; 4]>,
+    /// Per cell, how many cells away the nearest cell lies that a line-of-sight walk tests
+    /// (see [`sure_reach`](crate::geodesic::sure_reach)).
+    pub(crate) sure_reach: Vec<u8>,
     /// Per cell, the line-of-sight tolerance (m) below which every segment through the cell
     /// fails [`segment_clear`](crate::geodesic::segment_clear) there (see
     /// [`block_margins`](crate::geodesic::block_margins)).
@@ -374,16 +377,20 @@ impl NavGrid {
             stair: stairs.map(|s| s.stair).unwrap_or_default(),
             nearest,
             near_segs: Vec::new(),
+            sure_reach: Vec::new(),
             block_margin: Vec::new(),
             los_blocked: Vec::new(),
             fields: Default::default(),
             corner_graph: Default::default(),
             laps: BuildLaps::default(),
         };
-        // The line-of-sight margins, the cells' near segments and the islands read none of the
-        // others.
-        let ((margins, near), (labels, islands)) =
-            rayon::join(|| rayon::join(|| crate::geodesic::block_margins(&grid), || grid.near_segments()), || grid.label_islands());
+        // The line-of-sight margins, the cells' near segments and reach, and the islands read
+        // none of the others.
+        let ((margins, near), ((labels, islands), reach)) = rayon::join(
+            || rayon::join(|| crate::geodesic::block_margins(&grid), || grid.near_segments()),
+            || rayon::join(|| grid.label_islands(), || crate::geodesic::sure_reach(&grid)),
+        );
+        grid.sure_reach = reach;
         grid.los_blocked = crate::geodesic::los_bits(&margins);
         grid.block_margin = margins;
         grid.near_segs = near;
