@@ -3,12 +3,13 @@
 //! three; this splits it).
 //!
 //! `cargo run --release -p xhab-sim --example build_phases -- [SCENE.glb ...] [--runs N]
-//! [--pairs M] [--each]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
+//! [--pairs M] [--dump FILE] [--each]` (default: the two house scenes of the shared data, `$XHAB_DATA` or
 //! `../shared`, 5 runs, no pairs). Prints each phase's best time over the runs (ms), with the
 //! grid's size, the graph's nodes and legs, and a hash of the grid's cells, then the best
 //! time of each step of the grid's build ([`NavGrid::build_laps`]); with `--pairs`,
 //! also the rate of M cold pair queries between seeded random navigable points (this thread)
-//! and a hash of their distances' bits; with `--each`, every run's times (the first run of a
+//! and a hash of their distances' bits (with `--dump`, the pairs and their distances, one per
+//! line, `x0 y0 x1 y1 distance` in m, in `FILE.<scene name>`); with `--each`, every run's times (the first run of a
 //! process is the cold one a user waits for). The hashes tell whether a change to the build changed
 //! the grid or any answer.
 
@@ -35,6 +36,15 @@ fn main() {
     };
     let runs = flag("--runs", 5);
     let pairs = flag("--pairs", 0);
+    // Where to write the pair queries and their distances, to compare two builds.
+    let dump = match args.iter().position(|a| a == "--dump") {
+        Some(i) if i + 1 < args.len() => Some(args.drain(i..i + 2).nth(1).unwrap_or_default()),
+        Some(_) => {
+            eprintln!("build_phases: --dump wants a file");
+            std::process::exit(2);
+        }
+        None => None,
+    };
     let each = match args.iter().position(|a| a == "--each") {
         Some(i) => {
             args.remove(i);
@@ -95,7 +105,7 @@ fn main() {
             sizes = format!("grid {:?} cells, graph {} nodes / {} legs, grid hash {:016x}", grid.size(), graph.len(), graph.leg_count(), grid_hash(&grid));
             if run + 1 == runs.max(1) && pairs > 0 {
                 // On the last run's grid and graph.
-                pair_line = pair_queries(&grid, pairs);
+                pair_line = pair_queries(&grid, pairs, dump.as_deref().map(|d| format!("{d}.{}", Path::new(path).file_stem().unwrap_or_default().to_string_lossy())));
             }
         }
         println!("{path}: floors {:.1} ms, grid {:.1} ms, corner graph {:.1} ms ({sizes})", best[0] * 1e3, best[1] * 1e3, best[2] * 1e3);
@@ -125,7 +135,7 @@ fn grid_hash(grid: &NavGrid) -> u64 {
 
 /// `pairs` cold pair queries between seeded random navigable points of `grid`, on this thread:
 /// their rate and a hash of their distances' bits.
-fn pair_queries(grid: &NavGrid, pairs: usize) -> String {
+fn pair_queries(grid: &NavGrid, pairs: usize, dump: Option<String>) -> String {
     let graph = grid.corner_graph();
     let cells = grid.cells_on_islands(0.0);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
@@ -138,5 +148,13 @@ fn pair_queries(grid: &NavGrid, pairs: usize) -> String {
         .collect();
     let t = Instant::now();
     let hash = ends.iter().fold(0u64, |h, &(a, b)| h.wrapping_mul(1_000_003).wrapping_add(graph.distance(grid, a, b).to_bits()));
-    format!("  {} pair queries: {:.0} per s, distance hash {hash:016x}", ends.len(), ends.len() as f64 / t.elapsed().as_secs_f64())
+    let rate = ends.len() as f64 / t.elapsed().as_secs_f64();
+    if let Some(file) = dump {
+        let text: String = ends.iter().map(|&(a, b)| format!("{} {} {} {} {}\n", a.x, a.y, b.x, b.y, graph.distance(grid, a, b))).collect();
+        if let Err(e) = std::fs::write(&file, text) {
+            eprintln!("build_phases: {file}: {e}");
+            std::process::exit(1);
+        }
+    }
+    format!("  {} pair queries: {rate:.0} per s, distance hash {hash:016x}", ends.len())
 }
