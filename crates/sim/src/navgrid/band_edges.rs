@@ -172,11 +172,30 @@ fn packing(segs: &[Seg]) -> Option<Packing> {
     if segs.is_empty() || segs.len() > u32::MAX as usize {
         return None;
     }
-    let (lo, hi) = segs
+    // `quantum` never decreases as a coordinate grows, so the extreme keys are the extreme
+    // coordinates' (a NaN coordinate, whose key is 0, is counted apart).
+    let (lo, hi, nan) = segs
         .par_iter()
-        .flat_map_iter(|s| s.iter().map(|&p| quantum(p)))
-        .fold(|| ([i64::MAX; 2], [i64::MIN; 2]), |(lo, hi), q| ([lo[0].min(q[0]), lo[1].min(q[1])], [hi[0].max(q[0]), hi[1].max(q[1])]))
-        .reduce(|| ([i64::MAX; 2], [i64::MIN; 2]), |(a, b), (c, d)| ([a[0].min(c[0]), a[1].min(c[1])], [b[0].max(d[0]), b[1].max(d[1])]));
+        .fold(
+            || ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], false),
+            |(mut lo, mut hi, mut nan), s| {
+                for p in s {
+                    for k in 0..2 {
+                        (lo[k], hi[k]) = (lo[k].min(p[k]), hi[k].max(p[k]));
+                        nan |= p[k].is_nan();
+                    }
+                }
+                (lo, hi, nan)
+            },
+        )
+        .reduce(
+            || ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], false),
+            |(a, b, n), (c, d, m)| ([a[0].min(c[0]), a[1].min(c[1])], [b[0].max(d[0]), b[1].max(d[1])], n | m),
+        );
+    let (mut lo, mut hi) = (quantum(lo), quantum(hi));
+    if nan {
+        (lo, hi) = (lo.map(|v| v.min(0)), hi.map(|v| v.max(0)));
+    }
     let span = (hi[0] as i128 - lo[0] as i128).max(hi[1] as i128 - lo[1] as i128);
     let bits = (128 - (span as u128).leading_zeros()).max(1);
     let low = 2 + (usize::BITS - (segs.len() - 1).leading_zeros());
@@ -319,5 +338,26 @@ mod tests {
         // A thick piece does.
         let (_, sides) = edges(&[[[0.0, 0.0, 0.5], [3.0, 0.0, 0.5], [3.0, 1e-3, 0.5]]]);
         assert!(sides.iter().all(|&s| s == 1), "{sides:?}");
+    }
+
+    #[test]
+    fn quantum_never_decreases_so_the_packing_reads_the_extreme_coordinates() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+        // Around half quanta (where rounding steps), across zero and far out.
+        let mut xs: Vec<f64> = (0..20_000).map(|_| (rng.gen_range(-2000..2000) as f64 + 0.5) * 1e-5 + rng.gen_range(-3..=3) as f64 * 1e-20).collect();
+        xs.extend((0..20_000).map(|_| rng.gen_range(-1e3..1e3)));
+        xs.extend([0.0, -0.0, 5e-6, -5e-6, 4e10, -4e10, 1e300]);
+        xs.sort_by(f64::total_cmp);
+        for w in xs.windows(2) {
+            assert!(quantum([w[0], 0.0])[0] <= quantum([w[1], 0.0])[0], "{} {}", w[0], w[1]);
+        }
+        // The packing's smallest key is the smallest point's, coordinate by coordinate.
+        // (Within a kilometre, so that the keys fit.)
+        xs.retain(|x| x.abs() <= 1e3);
+        let segs: Vec<Seg> = xs.chunks(4).filter(|c| c.len() == 4).map(|c| [[c[0], c[3]], [c[2], c[1]]]).collect();
+        let pack = packing(&segs).expect("fits");
+        let all = segs.iter().flatten().map(|&p| quantum(p));
+        assert_eq!(pack.min, all.fold([i64::MAX; 2], |m, q| [m[0].min(q[0]), m[1].min(q[1])]));
     }
 }
