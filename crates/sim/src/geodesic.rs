@@ -315,12 +315,13 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     // The cells the segment crosses, in order (Amanatides-Woo): after `jx` column and `jy`
     // row boundaries, cell (x0 + sx jx, y0 + sy jy); the next column boundary is at `tx(jx)`
     // along the segment, the next row boundary at `ty(jy)`, and the row's comes first on a tie.
-    let (x0, y0) = (fx0.floor() as i64, fy0.floor() as i64);
-    let (x1, y1) = (fx1.floor() as i64, fy1.floor() as i64);
+    // (The end points are inside the grid, so truncation is the floor.)
+    let (x0, y0) = (fx0 as i64, fy0 as i64);
+    let (x1, y1) = (fx1 as i64, fy1 as i64);
     let (dx, dy) = (fx1 - fx0, fy1 - fy0);
     let (sx, sy) = (if dx > 0.0 { 1 } else { -1 }, if dy > 0.0 { 1 } else { -1 });
-    let (tx0, t_dx) = first_crossing(fx0, dx);
-    let (ty0, t_dy) = first_crossing(fy0, dy);
+    let (tx0, t_dx) = first_crossing(fx0, x0, dx);
+    let (ty0, t_dy) = first_crossing(fy0, y0, dy);
     let tx = |j: i64| tx0 + j as f64 * t_dx;
     let ty = |j: i64| ty0 + j as f64 * t_dy;
     let steps = (x1 - x0).abs() + (y1 - y0).abs();
@@ -371,15 +372,15 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     }
 }
 
-/// Where a segment from `f0` (in cells) moving `d` cells crosses its first cell boundary along
-/// one axis, as a fraction of its length, and the fraction between boundaries; infinite and 0
-/// when it does not move along that axis.
-fn first_crossing(f0: f64, d: f64) -> (f64, f64) {
+/// Where a segment from `f0` (in cells, in cell `cell`) moving `d` cells crosses its first cell
+/// boundary along one axis, as a fraction of its length, and the fraction between boundaries;
+/// infinite and 0 when it does not move along that axis.
+fn first_crossing(f0: f64, cell: i64, d: f64) -> (f64, f64) {
     let step = (1.0 / d).abs();
     if d > 0.0 {
-        ((f0.floor() + 1.0 - f0) * step, step)
+        (((cell + 1) as f64 - f0) * step, step)
     } else if d < 0.0 {
-        ((f0 - f0.floor()) * step, step)
+        ((f0 - cell as f64) * step, step)
     } else {
         (f64::INFINITY, 0.0)
     }
@@ -476,7 +477,7 @@ mod tests {
         let (x0, y0) = (fx0.floor() as i64, fy0.floor() as i64);
         let steps = (fx1.floor() as i64 - x0).abs() + (fy1.floor() as i64 - y0).abs();
         let (sx, sy) = (if fx1 > fx0 { 1 } else { -1 }, if fy1 > fy0 { 1 } else { -1 });
-        let ((tx0, t_dx), (ty0, t_dy)) = (first_crossing(fx0, fx1 - fx0), first_crossing(fy0, fy1 - fy0));
+        let ((tx0, t_dx), (ty0, t_dy)) = (first_crossing(fx0, x0, fx1 - fx0), first_crossing(fy0, y0, fy1 - fy0));
         // (The crossings summed step by step, as the walk did before it jumped.)
         let (t_dx, t_dy) = (if t_dx == 0.0 { f64::INFINITY } else { t_dx }, if t_dy == 0.0 { f64::INFINITY } else { t_dy });
         let (mut x, mut y, mut t_mx, mut t_my) = (x0, y0, tx0, ty0);
