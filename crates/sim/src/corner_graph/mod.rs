@@ -113,8 +113,8 @@ impl CornerGraph {
         }
         let n = g.pos.len();
         // Each node's legs to the nodes after it, then mirrored. The taut and island tests
-        // run first over all later nodes without a branch (about half the pairs pass, at
-        // random), leaving the candidates for the line-of-sight test.
+        // run first over all later nodes without a branch, into one flag per node (about half
+        // the pairs pass, at random), leaving the candidates for the line-of-sight test.
         let (xs, ys): (Vec<f64>, Vec<f64>) = g.pos.iter().map(|p| (p[0], p[1])).unzip();
         let (nx, ny): (Vec<f64>, Vec<f64>) = g.normal.iter().map(|m| (m[0], m[1])).unzip();
         // A leg that leaves a node steeply into the obstacle it stands off cannot be clear:
@@ -125,34 +125,38 @@ impl CornerGraph {
         let taut: Vec<f64> = g.taut.iter().map(|&t| if t == TAUT_COS { LEG_TAUT_COS } else { t }).collect();
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
-            .map_init(Vec::new, |cand, a| {
+            .map_init(Vec::new, |pass, a| {
                 let (xa, ya, nxa, nya, ta, ia) = (xs[a], ys[a], nx[a], ny[a], taut[a], g.island[a]);
-                cand.clear();
-                cand.resize(n - a, 0u32);
-                let mut m = 0;
-                for b in a + 1..n {
-                    let (dx, dy) = (xs[b] - xa, ys[b] - ya);
+                // The later nodes' arrays cut to one length, so that the loop reads them
+                // without bounds checks (and runs over several nodes at once).
+                let len = n - a - 1;
+                let (xb, yb, nxb, nyb) = (&xs[a + 1..][..len], &ys[a + 1..][..len], &nx[a + 1..][..len], &ny[a + 1..][..len]);
+                let (tb, eb, ib) = (&taut[a + 1..][..len], &exact[a + 1..][..len], &g.island[a + 1..][..len]);
+                let exact_a = exact[a];
+                pass.clear();
+                pass.resize(len, false);
+                let pass = &mut pass[..len];
+                for j in 0..len {
+                    let (dx, dy) = (xb[j] - xa, yb[j] - ya);
                     let l2 = dx * dx + dy * dy;
                     // `is_taut` at both ends without the division: `d . n <= taut |d|`.
-                    let (da, db) = (dx * nxa + dy * nya, -dx * nx[b] - dy * ny[b]);
-                    let tb = taut[b];
+                    let (da, db) = (dx * nxa + dy * nya, -dx * nxb[j] - dy * nyb[j]);
                     // (every node's taut cosine is positive)
                     let taut_a = (da <= 0.0) | (da * da <= ta * ta * l2);
-                    let taut_b = (db <= 0.0) | (db * db <= tb * tb * l2);
+                    let taut_b = (db <= 0.0) | (db * db <= tb[j] * tb[j] * l2);
                     // `d . n < -into |d|` at either end, for a leg longer than the arc radius.
                     let long = l2 > reach2;
-                    let into_a = exact[a] & long & heads_into(da, l2, into);
-                    let into_b = exact[b] & long & heads_into(db, l2, into);
-                    cand[m] = b as u32;
-                    m += (g.island[b] == ia && l2 >= 1e-18 && taut_a && taut_b && !into_a && !into_b) as usize;
+                    let into_a = exact_a & long & heads_into(da, l2, into);
+                    let into_b = eb[j] & long & heads_into(db, l2, into);
+                    pass[j] = (ib[j] == ia) & (l2 >= 1e-18) & taut_a & taut_b & !into_a & !into_b;
                 }
                 let pa = g.pos[a];
                 let mut out = Vec::new();
-                for &b in &cand[..m] {
-                    let pb = g.pos[b as usize];
+                for b in (0..len).filter(|&j| pass[j]).map(|j| a + 1 + j) {
+                    let pb = g.pos[b];
                     if segment_clear(grid, pa, pb, LOS_EPS) {
                         let d = [pb[0] - pa[0], pb[1] - pa[1]];
-                        out.push((b, (d[0] * d[0] + d[1] * d[1]).sqrt()));
+                        out.push((b as u32, (d[0] * d[0] + d[1] * d[1]).sqrt()));
                     }
                 }
                 out
