@@ -179,14 +179,24 @@ pub(crate) fn segment_distance_where(
             let k = k as usize;
             let s = &segs[k];
             let Some((c0, c1, r0, r1)) = boxes[k] else { continue };
+            let (sx0, sx1) = (s[0][0].min(s[1][0]), s[0][0].max(s[1][0]));
+            let (sy0, sy1) = (s[0][1].min(s[1][1]), s[0][1].max(s[1][1]));
             for r in r0.max(b0)..=r1.min(b1 - 1) {
                 let py = spec.y0 + (r as f64 + 0.5) * spec.res;
+                let by = (sy0 - py).max(py - sy1).max(0.0);
                 for c in c0..=c1 {
                     let i = r * spec.w + c;
                     if !skip.is_empty() && skip[i] {
                         continue;
                     }
                     let px = spec.x0 + (c as f64 + 0.5) * spec.res;
+                    // The segment's bounding box is no nearer than the nearest found so far
+                    // (less a billionth, far above the rounding of the exact distance): this
+                    // segment cannot take the cell.
+                    let bx = (sx0 - px).max(px - sx1).max(0.0);
+                    if (bx * bx + by * by) * (1.0 - 1e-9) >= best[i - b0 * spec.w] {
+                        continue;
+                    }
                     let q = closest_on_segment([px, py], s);
                     let d2 = (q[0] - px).powi(2) + (q[1] - py).powi(2);
                     if d2 < best[i - b0 * spec.w] && counts(k, i) {
@@ -247,6 +257,49 @@ mod tests {
                     }
                 }
                 assert!((d[r * w + c] as f64 - best).abs() < 1e-5, "({c},{r}): {} vs {best}", d[r * w + c]);
+            }
+        }
+    }
+
+    #[test]
+    fn segment_distance_takes_the_first_nearest_segment_of_every_cell() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let spec = super::super::raster::GridSpec { x0: -0.3, y0: 0.1, res: 0.05, w: 70, h: 50 };
+        // Short pieces of walls (collinear runs, shared ends, crossings) and strays.
+        let mut segs: Vec<Seg> = Vec::new();
+        for _ in 0..40 {
+            let (x, y, a) = (rng.gen_range(-0.5..3.5), rng.gen_range(0.0..2.6), rng.gen_range(0..8) as f64 * std::f64::consts::FRAC_PI_4);
+            let mut p = [x, y];
+            for _ in 0..rng.gen_range(1..6) {
+                let l = rng.gen_range(0.02..0.4);
+                let q = [p[0] + l * a.cos(), p[1] + l * a.sin()];
+                segs.push([p, q]);
+                p = q;
+            }
+        }
+        let cap = 0.38;
+        let skip: Vec<bool> = (0..spec.w * spec.h).map(|i| i % 13 == 0).collect();
+        let (d, near) = segment_distance(&spec, &segs, cap, &skip);
+        for r in 0..spec.h {
+            for c in 0..spec.w {
+                let i = r * spec.w + c;
+                let p = [spec.x0 + (c as f64 + 0.5) * spec.res, spec.y0 + (r as f64 + 0.5) * spec.res];
+                // Every segment in order, the same arithmetic; a later one takes the cell only
+                // when strictly nearer.
+                let (mut best, mut k) = (cap * cap, u32::MAX);
+                if !skip[i] {
+                    for (j, s) in segs.iter().enumerate() {
+                        let q = closest_on_segment(p, s);
+                        let d2 = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+                        if d2 < best {
+                            (best, k) = (d2, j as u32);
+                        }
+                    }
+                }
+                assert_eq!(near[i], k, "cell ({c}, {r})");
+                let want = if best < cap * cap { best.sqrt() as f32 } else { cap as f32 };
+                assert_eq!(d[i].to_bits(), want.to_bits(), "cell ({c}, {r})");
             }
         }
     }
