@@ -26,12 +26,12 @@ pub(super) fn arc_nodes(grid: &NavGrid, passage: &[bool], near_passage: &[bool],
     // A flat or reflex vertex has no arc a path wraps around.
     let mut verts: Vec<[i64; 2]> = grid
         .segments
-        .iter()
-        .flat_map(|s| s.iter().copied())
+        .par_iter()
+        .flat_map_iter(|s| s.iter().copied())
         .filter(|&v| arc_vertex(grid, near_passage, v) && convex.is_none_or(|c| c.is_convex(v)))
         .map(|v| [(v[0] * Q).round() as i64, (v[1] * Q).round() as i64])
         .collect();
-    verts.sort_unstable();
+    verts.par_sort_unstable();
     verts.dedup();
     let turns: Vec<(f64, f64)> = (0..(360.0 / ARC_STEP_DEG).round() as usize).map(|k| (k as f64 * step).sin_cos()).collect();
     let turns = &turns;

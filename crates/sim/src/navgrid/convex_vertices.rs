@@ -50,7 +50,7 @@ impl ConvexVertices {
                 })
             })
             .collect();
-        dirs.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+        dirs.par_sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
         let mut flat = vec![false; index.len()];
         for group in dirs.chunk_by(|x, y| x.0 == y.0) {
             flat[group[0].0 as usize] = widest_gap(group.iter().map(|d| d.1)) <= std::f64::consts::PI + CONVEX_GAP;
