@@ -263,9 +263,9 @@ impl CornerGraph {
             return Some(false);
         }
         // Steeply into the obstacle the node stands off: too near it (see `into_cos_for`; the
-        // bound is at least 0.5, so most legs are settled without working it out).
+        // bound is at least `INTO_COS_MIN`, so most legs are settled without working it out).
         let dn = d[0] * self.normal[k][0] + d[1] * self.normal[k][1];
-        if self.taut[k] == TAUT_COS && dn < -0.5 * l && l > arc_radius(grid) && heads_into(dn, l * l, into_cos_eps(grid.params.radius, arc_radius(grid), eps)) {
+        if self.taut[k] == TAUT_COS && dn < -INTO_COS_MIN * l && l > arc_radius(grid) && heads_into(dn, l * l, into_cos_eps(grid.params.radius, arc_radius(grid), eps)) {
             return Some(false);
         }
         None
@@ -486,9 +486,10 @@ fn convex_vertices(grid: &NavGrid, near_passage: &[bool]) -> ConvexVertices {
 /// the arc radius) comes nearer to the obstacle point the node stands off than the radius less
 /// [`LOS_EPS`] and a millimetre, so that no line of sight can pass: a node stands at the radius
 /// (an arc node at the arc radius `R`) from that point along its normal, and a leg leaving at
-/// cosine `-c` passes it at `R sqrt(1 - c^2)` once it is `R c` along. At least 0.5; above 1 (no
-/// leg is left out) for radii too small for the bound. For an agent radius and an arc radius
-/// (m).
+/// cosine `-c` passes it at `R sqrt(1 - c^2)` once it is `R c` along (a node stands exactly
+/// there: its normal and its anchor come from the same obstacle point). At least
+/// [`INTO_COS_MIN`] (0.37 for the default radius); above 1 (no leg is left out) for radii too
+/// small for the bound. For an agent radius and an arc radius (m).
 fn into_cos_for(radius: f64, arc: f64) -> f64 {
     into_cos_eps(radius, arc, LOS_EPS)
 }
@@ -507,8 +508,12 @@ fn into_cos_eps(radius: f64, arc: f64, eps: f64) -> f64 {
     if near <= 0.0 {
         return 2.0;
     }
-    (1.0 - (near / arc).powi(2)).max(0.0).sqrt().max(0.5)
+    (1.0 - (near / arc).powi(2)).max(0.0).sqrt().max(INTO_COS_MIN)
 }
+
+/// A floor under [`into_cos_for`]'s cosine, which is never below it: at least the sine of half
+/// the arc step (0.259; the radius is the arc radius times its cosine).
+const INTO_COS_MIN: f64 = 0.25;
 
 /// The boundary's outward unit normal at cell `i` and the taut-leg cosine that goes with it:
 /// from the nearest obstacle segment when there is one, else from the cells off the region
@@ -547,14 +552,14 @@ fn outward_normal(grid: &NavGrid, i: usize) -> ([f64; 2], f64) {
 
 #[cfg(test)]
 mod tests {
-    use super::{into_cos_eps, into_cos_for, LOS_EPS};
+    use super::{into_cos_eps, into_cos_for, INTO_COS_MIN, LOS_EPS};
 
     #[test]
     fn legs_left_out_steeply_into_the_obstacle_pass_too_near_it() {
         for (radius, eps) in [0.05, 0.1, 0.18, 0.3, 1.0].into_iter().flat_map(|r| [(r, LOS_EPS), (r, 0.0155)]) {
             let arc = radius / 15f64.to_radians().cos() + 1e-6;
             let c = into_cos_eps(radius, arc, eps);
-            assert!((0.5..1.0).contains(&c), "{radius}: {c}");
+            assert!((INTO_COS_MIN..1.0).contains(&c) && c > INTO_COS_MIN, "{radius}: {c}");
             if eps == LOS_EPS {
                 assert_eq!(c, into_cos_for(radius, arc));
             }
