@@ -342,8 +342,8 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
             // Every cell within k - 1 of this one needs no test ([`sure_reach`]): take at once
             // the crossings before the k-th column or row boundary from here (those the
             // traversal takes first, so the same cells follow).
-            // (Crossings along one axis are at least a grid's width apart in the last bit, so
-            // the axis whose k-th boundary comes first takes exactly k - 1.)
+            // (Crossings along one axis lie a fraction 1 / |d| of the segment apart, far above
+            // rounding, so the axis whose k-th boundary comes first takes exactly k - 1.)
             let (ax, ay) = (tx(jx + k - 1), ty(jy + k - 1));
             let (nx, ny) = if ax <= ay {
                 (k - 1, crossings_before(ty, jy, dy.abs(), ty0, k - 1, ax))
