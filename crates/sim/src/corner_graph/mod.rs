@@ -45,10 +45,10 @@ const TAUT_COS_COARSE: f64 = 0.95;
 
 /// [`TAUT_COS`] for the legs between two nodes (up to 44 degrees off the tangent). A query's
 /// end point may stand close to a corner and join a node steeply, so the ends keep
-/// [`TAUT_COS`]; between nodes, a tighter cone leaves out a fifth to a half of the legs. On
+/// [`TAUT_COS`]; between nodes, a tighter cone leaves out an eighth to a fifth of the legs. On
 /// 30,000 random pairs in each of the seven shared scenes every answer is the same to the bit
-/// with 0.7 and 0.65; from 0.6 down two of cpr_office's come out longer (by up to 0.54%,
-/// through a leg 40 degrees off the tangent where an arc's nodes are sparse).
+/// with 0.7 and 0.65; from 0.6 down two of cpr_office's come out longer (by up to 0.54%: their
+/// path wraps a corner through a leg 40 degrees off the tangent there).
 const LEG_TAUT_COS: f64 = 0.7;
 
 /// Bend points of one floor and the taut legs between them.
