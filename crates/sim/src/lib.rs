@@ -12,6 +12,7 @@
 pub mod scene;
 pub mod episode;
 pub mod navgrid;
+mod rounding;
 pub mod geodesic;
 pub mod corner_graph;
 pub mod goal_field;

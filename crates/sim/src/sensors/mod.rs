@@ -10,7 +10,6 @@ pub mod mipmap;
 pub mod raster;
 pub mod raycast;
 pub mod renderer;
-mod rounding;
 pub mod scan_slice;
 pub mod surface;
 

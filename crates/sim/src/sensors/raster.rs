@@ -26,7 +26,7 @@
 
 use super::camera::CameraParams;
 use super::surface::{SurfaceTri, Surfaces};
-use super::rounding::{ceil_small, floor_i32};
+use crate::rounding::{ceil_small, floor_i32};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};

@@ -18,7 +18,7 @@
 //! byte wherever they see the same triangle.
 
 use super::mipmap::{level_of_detail, level_weight, texel_scale, MipChain};
-use super::rounding::floor_i32;
+use crate::rounding::floor_i32;
 use crate::scene::{Scene, Texture, Wrap};
 use std::sync::OnceLock;
 
