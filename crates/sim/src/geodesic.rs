@@ -327,7 +327,6 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let steps = (x1 - x0).abs() + (y1 - y0).abs();
     let reach = &grid.sure_reach;
     let (mut jx, mut jy) = (0i64, 0i64);
-    let (mut t_mx, mut t_my) = (tx0, ty0);
     loop {
         let (x, y) = (x0 + sx * jx, y0 + sy * jy);
         if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
@@ -355,19 +354,16 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
             }
             if nx + ny > 0 {
                 (jx, jy) = (jx + nx, jy + ny);
-                (t_mx, t_my) = (tx(jx), ty(jy));
                 continue;
             }
         }
         if jx + jy == steps {
             return true;
         }
-        if t_mx < t_my {
+        if tx(jx) < ty(jy) {
             jx += 1;
-            t_mx = tx(jx);
         } else {
             jy += 1;
-            t_my = ty(jy);
         }
     }
 }
