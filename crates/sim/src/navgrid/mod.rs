@@ -395,7 +395,7 @@ impl NavGrid {
         grid.block_margin = margins;
         grid.near_segs = near;
         (grid.island_of, grid.islands) = (labels, islands);
-        laps.lap("line-of-sight margins, islands");
+        laps.lap("line-of-sight tables, islands");
         grid.find_corners();
         laps.lap("corners");
         grid.laps = laps;
