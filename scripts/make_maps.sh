@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 out=${1:-maps}
 if [ -z "${XHAB:-}" ]; then
   cargo build -q -p xhab --locked
-  XHAB=target/debug/xhab
+  XHAB=${CARGO_TARGET_DIR:-target}/debug/xhab
 fi
 mkdir -p "$out"
 for seed in 0 1; do

@@ -22,7 +22,7 @@ venv=$(cd "$venv" && pwd)
 
 # The CLI that `xhab bench` comparisons run.
 cargo build -q -p xhab --locked
-export XHAB_BIN="$PWD/target/debug/xhab"
+export XHAB_BIN="${CARGO_TARGET_DIR:-$PWD/target}/debug/xhab"
 export XHAB_REQUIRE_CLI=1
 
 # maturin develop installs into the active virtual environment.

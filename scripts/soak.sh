@@ -56,7 +56,7 @@ early=$(( (early + every - 1) / every * every ))
 
 if [[ -z ${XHAB:-} ]]; then
     (cd "$root" && cargo build -q -p xhab)
-    XHAB=$root/target/debug/xhab
+    XHAB=${CARGO_TARGET_DIR:-$root/target}/debug/xhab
 fi
 
 printf 'config\tepisode\trss_kib\n' >"$out/rss.tsv"

@@ -62,6 +62,8 @@ export XHAB_REQUIRE_GPU=1
 export XHAB_REQUIRE_SLURM=1
 export XHAB_REQUIRE_CHROMIUM=1
 ./scripts/check_deps.sh
+# The CLI and the Python extension build on the test build's dependencies, not a copy.
+./scripts/check_features.sh
 # A test run builds once: incremental caches would only add gigabytes to the disk
 # (set CARGO_INCREMENTAL=1 to keep them while iterating).
 export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
