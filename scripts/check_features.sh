@@ -6,9 +6,11 @@
 # members and tests turn on; this check names a dependency whose features still differ.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# Each package and its features, one line each; extra arguments choose the edges.
+# Each package and its features for this machine, one line each; the arguments choose the
+# packages and edges.
+host=$(rustc -vV | sed -n 's/^host: //p')
 tree() {
-  cargo tree --locked "$@" -f '{p}|{f}' --prefix none --no-dedupe --target x86_64-unknown-linux-gnu |
+  cargo tree --locked "$@" -f '{p}|{f}' --prefix none --no-dedupe --target "$host" |
     sed 's/ (\*)$//; s/ (proc-macro)$//' | sort -u
 }
 # What the target runs (build scripts and proc macros left out) must match exactly; over
