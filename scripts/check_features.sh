@@ -20,8 +20,11 @@ target_ws=$(tree --workspace -e normal,dev,no-proc-macro)
 all_ws=$(tree --workspace -e normal,build,dev)
 fail=0
 for pkg in xhab xhab-python; do
-  missing=$( (comm -23 <(tree -p "$pkg" -e normal,no-proc-macro) <(printf '%s\n' "$target_ws")
-              comm -23 <(tree -p "$pkg" -e normal,build) <(printf '%s\n' "$all_ws")) | sort -u)
+  # (Into variables first: a failing cargo tree in a process substitution would pass unseen.)
+  target_pkg=$(tree -p "$pkg" -e normal,no-proc-macro)
+  all_pkg=$(tree -p "$pkg" -e normal,build)
+  missing=$( (comm -23 <(printf '%s\n' "$target_pkg") <(printf '%s\n' "$target_ws")
+              comm -23 <(printf '%s\n' "$all_pkg") <(printf '%s\n' "$all_ws")) | sort -u)
   if [ -n "$missing" ]; then
     echo "feature agreement: cargo build -p $pkg would compile these again (add their features to crates/workspace-hack):" >&2
     sed 's/^/  /; s/|/ features: /' <<<"$missing" >&2
