@@ -147,10 +147,11 @@ fn pair_queries(grid: &NavGrid, pairs: usize, dump: Option<String>) -> String {
         })
         .collect();
     let t = Instant::now();
-    let hash = ends.iter().fold(0u64, |h, &(a, b)| h.wrapping_mul(1_000_003).wrapping_add(graph.distance(grid, a, b).to_bits()));
+    let dist: Vec<f64> = ends.iter().map(|&(a, b)| graph.distance(grid, a, b)).collect();
     let rate = ends.len() as f64 / t.elapsed().as_secs_f64();
+    let hash = dist.iter().fold(0u64, |h, d| h.wrapping_mul(1_000_003).wrapping_add(d.to_bits()));
     if let Some(file) = dump {
-        let text: String = ends.iter().map(|&(a, b)| format!("{} {} {} {} {}\n", a.x, a.y, b.x, b.y, graph.distance(grid, a, b))).collect();
+        let text: String = ends.iter().zip(&dist).map(|(&(a, b), d)| format!("{} {} {} {} {d}\n", a.x, a.y, b.x, b.y)).collect();
         if let Err(e) = std::fs::write(&file, text) {
             eprintln!("build_phases: {file}: {e}");
             std::process::exit(1);
