@@ -18,7 +18,9 @@ const CUT_STEP: f64 = 0.5;
 /// numbers' order), taken smallest first: by key, then by tag.
 #[derive(Debug, Default)]
 pub(super) struct CutHeap {
-    heap: BinaryHeap<Reverse<(u64, u32)>>,
+    /// Entries at or below the cut, each packed as one number that orders as `(key, tag)`
+    /// (one comparison instead of two).
+    heap: BinaryHeap<Reverse<u128>>,
     /// The entries above the cut.
     over: Vec<(u64, u32)>,
     /// Entries with keys up to this (bits of an `f64`, m) are in the heap.
@@ -34,7 +36,7 @@ impl CutHeap {
         below.clear();
         for e in entries {
             if e.0 <= self.cut {
-                below.push(Reverse(e));
+                below.push(Reverse(pack(e)));
             } else {
                 self.over.push(e);
             }
@@ -46,7 +48,7 @@ impl CutHeap {
     #[inline]
     pub fn push(&mut self, e: (u64, u32)) {
         if e.0 <= self.cut {
-            self.heap.push(Reverse(e));
+            self.heap.push(Reverse(pack(e)));
         } else {
             self.over.push(e);
         }
@@ -57,7 +59,7 @@ impl CutHeap {
     pub fn pop(&mut self) -> Option<(u64, u32)> {
         loop {
             if let Some(Reverse(e)) = self.heap.pop() {
-                return Some(e);
+                return Some(((e >> 32) as u64, e as u32));
             }
             // Every entry left is above the cut: raise it past the smallest.
             let m = self.over.iter().map(|e| e.0).min()?;
@@ -65,13 +67,19 @@ impl CutHeap {
             let mut i = 0;
             while i < self.over.len() {
                 if self.over[i].0 <= self.cut {
-                    self.heap.push(Reverse(self.over.swap_remove(i)));
+                    self.heap.push(Reverse(pack(self.over.swap_remove(i))));
                 } else {
                     i += 1;
                 }
             }
         }
     }
+}
+
+/// An entry as one number that orders as `(key, tag)` does: the key above the tag.
+#[inline(always)]
+fn pack((key, tag): (u64, u32)) -> u128 {
+    (key as u128) << 32 | tag as u128
 }
 
 #[cfg(test)]
