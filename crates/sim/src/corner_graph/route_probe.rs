@@ -8,7 +8,8 @@
 //!
 //! `cargo test --release -p xhab-sim --lib route_probe -- --ignored --nocapture`
 //!
-//! `heuristic_floor`: how much of the search's work a better heuristic could save at best.
+//! `heuristic_floor`: how much of the search's work a better heuristic could save at best,
+//! and landmark (ALT) bounds at their best.
 //!
 //! `square_pvs`: how many failed lines of sight a set of nodes seen per 1 m square would spare.
 //!
@@ -48,6 +49,48 @@ fn seeded_pairs(grid: &NavGrid, n: usize) -> Vec<([f64; 2], [f64; 2])> {
         .collect()
 }
 
+/// The graph distance from node `src` to every node (m; infinite where unreachable), by
+/// Dijkstra over the legs.
+fn graph_distances(g: &CornerGraph, src: usize) -> Vec<f64> {
+    let mut d = vec![f64::INFINITY; g.len()];
+    let mut heap = BinaryHeap::new();
+    d[src] = 0.0;
+    heap.push(Reverse((0u64, src as u32)));
+    while let Some(Reverse((k, a))) = heap.pop() {
+        let a = a as usize;
+        if f64::from_bits(k) > d[a] {
+            continue;
+        }
+        for (b, l) in g.legs(a) {
+            let nd = d[a] + l;
+            if nd < d[b as usize] {
+                d[b as usize] = nd;
+                heap.push(Reverse((nd.to_bits(), b)));
+            }
+        }
+    }
+    d
+}
+
+/// `k` landmark nodes of `g` picked farthest first (each the node farthest, over the graph,
+/// from those picked before; unreachable counts as farthest), from node 0, with their graph
+/// distances to every node.
+fn landmarks(g: &CornerGraph, k: usize) -> Vec<(usize, Vec<f64>)> {
+    let mut marks = vec![(0, graph_distances(g, 0))];
+    while marks.len() < k.min(g.len()) {
+        let gap = |v: usize| marks.iter().map(|(_, d)| if d[v].is_finite() { d[v] } else { f64::MAX }).fold(f64::INFINITY, f64::min);
+        let far = (0..g.len()).max_by(|&a, &b| gap(a).total_cmp(&gap(b))).unwrap_or(0);
+        marks.push((far, graph_distances(g, far)));
+    }
+    marks
+}
+
+/// What the landmark bounds below give up (m): a point query from a node's position can
+/// come out a little shorter than the node's graph distance (its ends join nodes more
+/// steeply than legs do, [`TAUT_COS`] against [`LEG_TAUT_COS`]; up to 2.5 cm measured on the
+/// two houses), so `d(L, v) - d(L, s)` can exceed `d(v, s)` by that much.
+const LANDMARK_SLACK: f64 = 0.05;
+
 /// A point (m) as a [`Point2`].
 fn p2(p: [f64; 2]) -> Point2 {
     Point2::new(p[0], p[1])
@@ -72,29 +115,7 @@ fn route_probe() {
         let n = g.len();
         // 1. All pairs: Dijkstra from every node.
         let t = Instant::now();
-        let table: Vec<Vec<f32>> = (0..n)
-            .into_par_iter()
-            .map(|src| {
-                let mut d = vec![f64::INFINITY; n];
-                let mut heap = BinaryHeap::new();
-                d[src] = 0.0;
-                heap.push(Reverse((0u64, src as u32)));
-                while let Some(Reverse((k, a))) = heap.pop() {
-                    let a = a as usize;
-                    if f64::from_bits(k) > d[a] {
-                        continue;
-                    }
-                    for (b, l) in g.legs(a) {
-                        let nd = d[a] + l;
-                        if nd < d[b as usize] {
-                            d[b as usize] = nd;
-                            heap.push(Reverse((nd.to_bits(), b)));
-                        }
-                    }
-                }
-                d.into_iter().map(|v| v as f32).collect()
-            })
-            .collect();
+        let table: Vec<Vec<f32>> = (0..n).into_par_iter().map(|src| graph_distances(&g, src).into_iter().map(|v| v as f32).collect()).collect();
         let apsp = t.elapsed().as_secs_f64();
         // 2. The nodes each navigable cell's centre joins, on a sample of cells.
         let cells = grid.cells_on_islands(0.0);
@@ -174,7 +195,11 @@ fn route_probe() {
 /// answer), how many of those the goal does not see (each a failed line-of-sight test), the
 /// nodes it settles (the graph distance from the goal plus heuristic below the answer, or on
 /// a shortest path) and how many of those ask a line of sight to the start. What the perfect
-/// heuristic leaves is a floor under any heuristic's work.
+/// heuristic leaves is a floor under any heuristic's work. Between the two, landmark (ALT)
+/// bounds from 16 landmarks ([`landmarks`]) given each landmark's exact distance to the start
+/// for free (a query would have to work it out): `|d(L, v) - d(L, s)|` (both sides) and
+/// `d(L, v) - d(L, s)` (forward only), less [`LANDMARK_SLACK`], with the straight line as a
+/// floor. What they leave is the most landmarks could save.
 ///
 /// `cargo test --release -p xhab-sim --lib heuristic_floor -- --ignored --nocapture`
 #[test]
@@ -184,21 +209,28 @@ fn heuristic_floor() {
         let Some(grid) = house_grid("heuristic_floor", scene) else { continue };
         let g = grid.corner_graph().clone();
         let ends = seeded_pairs(&grid, pairs);
-        // Per pair, for the straight-line heuristic then the perfect one: seeds, seeds unseen,
-        // settled, settled asking a line of sight.
-        let counts: Vec<[f64; 8]> = ends
+        let marks = landmarks(&g, 16);
+        // Per pair, for the straight-line heuristic, the perfect one, then the two landmark
+        // bounds: seeds, seeds unseen, settled, settled asking a line of sight.
+        let counts: Vec<[f64; 16]> = ends
             .par_iter()
             .filter_map(|&(s, gl)| {
                 let (d, ia, eg) = apart(&g, &grid, s, gl)?;
                 let es = end_eps(&grid, s);
-                let mut c = [0.0; 8];
+                let to_start: Vec<f64> = marks.iter().map(|&(m, _)| g.distance(&grid, p2(g.pos(m)), p2(s))).collect();
+                let mut c = [0.0; 16];
                 for k in (0..g.len()).filter(|&k| g.island(k) == ia) {
                     let a = g.pos(k);
                     let (to_s, to_g) = (g.distance(&grid, p2(a), p2(s)), g.distance(&grid, p2(a), p2(gl)));
                     let seed = g.may_join(&grid, k, gl, eg) != Some(false);
                     let unseen = seed && !segment_clear(&grid, gl, a, eg);
                     let asks = g.may_join(&grid, k, s, es).is_none();
-                    for (j, h) in [(0, dist2(a, s)), (4, to_s)] {
+                    let line = dist2(a, s);
+                    let bound = |both: bool| {
+                        let gaps = marks.iter().zip(&to_start).map(|((_, dl), &ls)| if both { (dl[k] - ls).abs() } else { dl[k] - ls });
+                        gaps.filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max) - LANDMARK_SLACK
+                    };
+                    for (j, h) in [(0, line), (4, to_s), (8, bound(true).max(line)), (12, bound(false).max(line))] {
                         if seed && dist2(gl, a) + h < d - 1e-9 {
                             c[j] += 1.0;
                             c[j + 1] += unseen as u8 as f64;
@@ -214,7 +246,7 @@ fn heuristic_floor() {
             .collect();
         let m = counts.len().max(1) as f64;
         let mean = |j: usize| counts.iter().map(|c| c[j]).sum::<f64>() / m;
-        for (name, j) in [("straight-line heuristic", 0), ("perfect heuristic", 4)] {
+        for (name, j) in [("straight-line heuristic", 0), ("perfect heuristic", 4), ("16 landmarks, both sides", 8), ("16 landmarks, forward only", 12)] {
             eprintln!(
                 "{scene}: {} pairs that do not see each other; {name}, per query: {:.1} goal-side seeds, {:.1} of them unseen from the goal; {:.1} nodes settled, {:.1} of them asking a line of sight to the start",
                 counts.len(),
