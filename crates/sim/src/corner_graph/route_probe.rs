@@ -73,22 +73,55 @@ fn graph_distances(g: &CornerGraph, src: usize) -> Vec<f64> {
 }
 
 /// `k` landmark nodes of `g` picked farthest first (each the node farthest, over the graph,
-/// from those picked before; unreachable counts as farthest), from node 0, with their graph
-/// distances to every node.
-fn landmarks(g: &CornerGraph, k: usize) -> Vec<(usize, Vec<f64>)> {
-    let mut marks = vec![(0, graph_distances(g, 0))];
-    while marks.len() < k.min(g.len()) {
-        let gap = |v: usize| marks.iter().map(|(_, d)| if d[v].is_finite() { d[v] } else { f64::MAX }).fold(f64::INFINITY, f64::min);
+/// from those picked before; unreachable counts as farthest), from node 0, with the distance
+/// from each to every node's position as [`CornerGraph::distance`] gives it. Not the graph's
+/// own distances: a leg is taut at both of its nodes, so the graph's path to a node must
+/// arrive at it as if bending there, and comes out longer than the point's distance, by up to
+/// 4.7 m on turtlebot3_house; landmark bounds from it are far from admissible.
+fn landmarks(g: &CornerGraph, grid: &NavGrid, k: usize) -> Vec<(usize, Vec<f64>)> {
+    let mut picked = vec![(0, graph_distances(g, 0))];
+    while picked.len() < k.min(g.len()) {
+        let gap = |v: usize| picked.iter().map(|(_, d)| if d[v].is_finite() { d[v] } else { f64::MAX }).fold(f64::INFINITY, f64::min);
         let far = (0..g.len()).max_by(|&a, &b| gap(a).total_cmp(&gap(b))).unwrap_or(0);
-        marks.push((far, graph_distances(g, far)));
+        picked.push((far, graph_distances(g, far)));
     }
-    marks
+    picked
+        .into_iter()
+        .map(|(m, _)| (m, (0..g.len()).into_par_iter().map(|v| g.distance(grid, p2(g.pos(m)), p2(g.pos(v)))).collect()))
+        .collect()
 }
 
-/// What the landmark bounds below give up (m): a point query from a node's position can
-/// come out a little shorter than the node's graph distance (its ends join nodes more
-/// steeply than legs do, [`TAUT_COS`] against [`LEG_TAUT_COS`]; up to 2.5 cm measured on the
-/// two houses), so `d(L, v) - d(L, s)` can exceed `d(v, s)` by that much.
+/// Octile distances (m) over navigable cells from cell `src` (diagonal steps only between
+/// two navigable orthogonal neighbours; steps cost 1 and 1.4143 cells): lengths of paths
+/// between cell centres, so above the geodesic distance but for the millimetres a step's
+/// chord may cut inside the radius beside a corner (the slack covers them).
+fn octile_field(grid: &NavGrid, src: usize) -> Vec<f64> {
+    let (w, h) = grid.size();
+    let res = grid.resolution();
+    let mut d = vec![f64::INFINITY; w * h];
+    let mut heap = BinaryHeap::new();
+    d[src] = 0.0;
+    heap.push(Reverse((0u64, src)));
+    while let Some(Reverse((k, i))) = heap.pop() {
+        if f64::from_bits(k) > d[i] { continue; }
+        let (c, r) = ((i % w) as isize, (i / w) as isize);
+        let nav = |c: isize, r: isize| c >= 0 && r >= 0 && c < w as isize && r < h as isize && grid.is_nav_cell(r as usize * w + c as usize);
+        for (dc, dr) in [(-1isize, 0isize), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)] {
+            let (nc, nr) = (c + dc, r + dr);
+            if !nav(nc, nr) { continue; }
+            let diag = dc != 0 && dr != 0;
+            if diag && !(nav(c + dc, r) && nav(c, r + dr)) { continue; }
+            let j = nr as usize * w + nc as usize;
+            let nd = d[i] + if diag { 1.4143 } else { 1.0 } * res;
+            if nd < d[j] { d[j] = nd; heap.push(Reverse((nd.to_bits(), j))); }
+        }
+    }
+    d
+}
+
+/// What the landmark bounds below give up (m), for the rounding and the end tolerances of
+/// the point queries they come from; the probe prints how far each bound still comes out
+/// above the exact distance (none should).
 const LANDMARK_SLACK: f64 = 0.05;
 
 /// A point (m) as a [`Point2`].
@@ -199,7 +232,9 @@ fn route_probe() {
 /// bounds from 16 landmarks ([`landmarks`]) given each landmark's exact distance to the start
 /// for free (a query would have to work it out): `|d(L, v) - d(L, s)|` (both sides) and
 /// `d(L, v) - d(L, s)` (forward only), less [`LANDMARK_SLACK`], with the straight line as a
-/// floor. What they leave is the most landmarks could save.
+/// floor. What they leave is the most landmarks could save. Last, the forward bound with what
+/// a query could have at hand instead: an upper bound of `d(L, s)` from an octile field of
+/// the cells per landmark ([`octile_field`]).
 ///
 /// `cargo test --release -p xhab-sim --lib heuristic_floor -- --ignored --nocapture`
 #[test]
@@ -209,16 +244,28 @@ fn heuristic_floor() {
         let Some(grid) = house_grid("heuristic_floor", scene) else { continue };
         let g = grid.corner_graph().clone();
         let ends = seeded_pairs(&grid, pairs);
-        let marks = landmarks(&g, 16);
+        let marks = landmarks(&g, &grid, 16);
+        // Each landmark's cell and octile field.
+        let fields: Vec<(Vec<f64>, usize)> = marks
+            .iter()
+            .filter_map(|&(m, _)| grid.cell_of(p2(g.pos(m))))
+            .map(|cl| (octile_field(&grid, cl), cl))
+            .collect();
+        assert_eq!(fields.len(), marks.len(), "a landmark off the grid");
         // Per pair, for the straight-line heuristic, the perfect one, then the two landmark
         // bounds: seeds, seeds unseen, settled, settled asking a line of sight.
-        let counts: Vec<[f64; 16]> = ends
+        let counts: Vec<([f64; 20], [f64; 5])> = ends
             .par_iter()
             .filter_map(|&(s, gl)| {
                 let (d, ia, eg) = apart(&g, &grid, s, gl)?;
                 let es = end_eps(&grid, s);
                 let to_start: Vec<f64> = marks.iter().map(|&(m, _)| g.distance(&grid, p2(g.pos(m)), p2(s))).collect();
-                let mut c = [0.0; 16];
+                // Upper bounds of the same from the octile fields: a path from the landmark to
+                // its cell's centre, over the cells, then to the start.
+                let cs = grid.cell_of(p2(s))?;
+                let above: Vec<f64> = fields.iter().zip(&marks).map(|((f, cl), &(m, _))| f[cs] + dist2(s, grid.center(cs)) + dist2(g.pos(m), grid.center(*cl))).collect();
+                let mut c = [0.0; 20];
+                let mut over = [f64::NEG_INFINITY; 5];
                 for k in (0..g.len()).filter(|&k| g.island(k) == ia) {
                     let a = g.pos(k);
                     let (to_s, to_g) = (g.distance(&grid, p2(a), p2(s)), g.distance(&grid, p2(a), p2(gl)));
@@ -226,11 +273,17 @@ fn heuristic_floor() {
                     let unseen = seed && !segment_clear(&grid, gl, a, eg);
                     let asks = g.may_join(&grid, k, s, es).is_none();
                     let line = dist2(a, s);
-                    let bound = |both: bool| {
-                        let gaps = marks.iter().zip(&to_start).map(|((_, dl), &ls)| if both { (dl[k] - ls).abs() } else { dl[k] - ls });
+                    let bound = |both: bool, ls: &[f64]| {
+                        let gaps = marks.iter().zip(ls).map(|((_, dl), &ls)| if both { (dl[k] - ls).abs() } else { dl[k] - ls });
                         gaps.filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max) - LANDMARK_SLACK
                     };
-                    for (j, h) in [(0, line), (4, to_s), (8, bound(true).max(line)), (12, bound(false).max(line))] {
+                    let hs = [line, to_s, bound(true, &to_start).max(line), bound(false, &to_start).max(line), bound(false, &above).max(line)];
+                    // How far a bound comes out above the exact distance to the start (an
+                    // inadmissible bound: the slack is too small).
+                    for (j, &h) in hs.iter().enumerate() {
+                        over[j] = over[j].max(h - to_s);
+                    }
+                    for (j, h) in hs.into_iter().enumerate().map(|(j, h)| (4 * j, h)) {
                         if seed && dist2(gl, a) + h < d - 1e-9 {
                             c[j] += 1.0;
                             c[j + 1] += unseen as u8 as f64;
@@ -241,19 +294,27 @@ fn heuristic_floor() {
                         }
                     }
                 }
-                Some(c)
+                Some((c, over))
             })
             .collect();
         let m = counts.len().max(1) as f64;
-        let mean = |j: usize| counts.iter().map(|c| c[j]).sum::<f64>() / m;
-        for (name, j) in [("straight-line heuristic", 0), ("perfect heuristic", 4), ("16 landmarks, both sides", 8), ("16 landmarks, forward only", 12)] {
+        let mean = |j: usize| counts.iter().map(|c| c.0[j]).sum::<f64>() / m;
+        let most_over = |h: usize| counts.iter().map(|c| c.1[h]).fold(f64::NEG_INFINITY, f64::max);
+        for (name, j) in [
+            ("straight-line heuristic", 0),
+            ("perfect heuristic", 4),
+            ("16 landmarks, both sides", 8),
+            ("16 landmarks, forward only", 12),
+            ("16 landmarks, forward only, octile bounds", 16),
+        ] {
             eprintln!(
-                "{scene}: {} pairs that do not see each other; {name}, per query: {:.1} goal-side seeds, {:.1} of them unseen from the goal; {:.1} nodes settled, {:.1} of them asking a line of sight to the start",
+                "{scene}: {} pairs that do not see each other; {name}, per query: {:.1} goal-side seeds, {:.1} of them unseen from the goal; {:.1} nodes settled, {:.1} of them asking a line of sight to the start; at most {:.3} m above the exact distance",
                 counts.len(),
                 mean(j),
                 mean(j + 1),
                 mean(j + 2),
-                mean(j + 3)
+                mean(j + 3),
+                most_over(j / 4)
             );
         }
     }
