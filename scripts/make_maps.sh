@@ -14,7 +14,8 @@ cd "$(dirname "$0")/.."
 out=${1:-maps}
 if [ -z "${XHAB:-}" ]; then
   cargo build -q -p xhab --locked
-  XHAB=${CARGO_TARGET_DIR:-target}/debug/xhab
+  # (A relative CARGO_TARGET_DIR is cargo's, from here: made absolute for the runs below.)
+  XHAB=$(realpath -m "${CARGO_TARGET_DIR:-target}")/debug/xhab
 fi
 mkdir -p "$out"
 for seed in 0 1; do

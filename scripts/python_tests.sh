@@ -22,7 +22,8 @@ venv=$(cd "$venv" && pwd)
 
 # The CLI that `xhab bench` comparisons run.
 cargo build -q -p xhab --locked
-export XHAB_BIN="${CARGO_TARGET_DIR:-$PWD/target}/debug/xhab"
+# (Absolute: pytest runs from crates/python, and a relative CARGO_TARGET_DIR is from here.)
+export XHAB_BIN="$(realpath -m "${CARGO_TARGET_DIR:-target}")/debug/xhab"
 export XHAB_REQUIRE_CLI=1
 
 # maturin develop installs into the active virtual environment.

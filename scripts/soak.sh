@@ -56,7 +56,8 @@ early=$(( (early + every - 1) / every * every ))
 
 if [[ -z ${XHAB:-} ]]; then
     (cd "$root" && cargo build -q -p xhab)
-    XHAB=${CARGO_TARGET_DIR:-$root/target}/debug/xhab
+    # (A relative CARGO_TARGET_DIR is from $root, where cargo ran.)
+    XHAB=$(cd "$root" && realpath -m "${CARGO_TARGET_DIR:-target}")/debug/xhab
 fi
 
 printf 'config\tepisode\trss_kib\n' >"$out/rss.tsv"
