@@ -243,6 +243,26 @@ pub(crate) fn los_bits(margins: &[f32]) -> Vec<u64> {
 /// one the walk crosses: the answer is the walk's. The walk itself steps over the cells that
 /// need no test in one go where the grid says how many there are ([`sure_reach`]).
 pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) -> bool {
+    segment_verdict(grid, a, b, eps) == Verdict::Clear
+}
+
+/// What [`segment_clear`] found of a segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Verdict {
+    /// The segment is clear.
+    Clear,
+    /// The segment crosses cell `.0`, which fails every segment through it at this `eps` (its
+    /// block margin exceeds `eps`, see [`block_margins`]).
+    BlockedAt(usize),
+    /// The segment is not clear (it leaves the grid, or passes too near an obstacle in a cell
+    /// that some other segment may cross).
+    Blocked,
+}
+
+/// [`segment_clear`], saying where a blocked segment was stopped when a cell that fails every
+/// segment stopped it.
+#[inline(always)]
+pub(crate) fn segment_verdict(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) -> Verdict {
     let (w, h) = grid.size();
     let res = grid.resolution();
     let o = grid.origin();
@@ -255,7 +275,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     let fy1 = (b[1] - o.y) / res;
     let inside = |x: f64, y: f64| x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64;
     if !inside(fx0, fy0) || !inside(fx1, fy1) {
-        return false;
+        return Verdict::Blocked;
     }
     let samples = ((fx1 - fx0).abs().max((fy1 - fy0).abs()) / SAMPLE_STRIDE) as usize;
     if samples > 0 {
@@ -282,7 +302,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
                     let i = cell(x, y);
                     bits[i >> 6] >> (i & 63) & 1 != 0
                 } {
-                    return false;
+                    return Verdict::BlockedAt(cell(x, y));
                 }
             }
         } else {
@@ -290,7 +310,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
                 x += sx;
                 y += sy;
                 if inner(x) && inner(y) && grid.block_margin[cell(x, y)] as f64 > eps {
-                    return false;
+                    return Verdict::BlockedAt(cell(x, y));
                 }
             }
         }
@@ -330,12 +350,12 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
     loop {
         let (x, y) = (x0 + sx * jx, y0 + sy * jy);
         if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-            return false;
+            return Verdict::Blocked;
         }
         let i = y as usize * w + x as usize;
         let k = reach[i] as i64;
         if k == 0 && !check(i) {
-            return false;
+            return if grid.block_margin[i] as f64 > eps { Verdict::BlockedAt(i) } else { Verdict::Blocked };
         }
         if k >= 2 {
             // Every cell within k - 1 of this one needs no test ([`sure_reach`]): take at once
@@ -350,7 +370,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
                 (crossings_before(tx, jx, dx.abs(), tx0, k - 1, ay), k - 1)
             };
             if jx + jy + nx + ny >= steps {
-                return true;
+                return Verdict::Clear;
             }
             if nx + ny > 0 {
                 (jx, jy) = (jx + nx, jy + ny);
@@ -358,7 +378,7 @@ pub(crate) fn segment_clear(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64) 
             }
         }
         if jx + jy == steps {
-            return true;
+            return Verdict::Clear;
         }
         if tx(jx) < ty(jy) {
             jx += 1;

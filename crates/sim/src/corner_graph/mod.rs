@@ -20,16 +20,18 @@
 //!
 //! [`GeodesicField`]: crate::geodesic::GeodesicField
 
-use crate::geodesic::{segment_clear, LOS_EPS};
+use crate::geodesic::{segment_clear, segment_verdict, Verdict, LOS_EPS};
 use crate::navgrid::convex_vertices::ConvexVertices;
 use crate::navgrid::{closest_on_segment, NavGrid};
 use cut_heap::CutHeap;
 use passages::{arc_nodes, arc_radius, arc_reach, arc_vertex, passage_cells};
 use rayon::prelude::*;
+use walls::Walls;
 use xhab_types::Point2;
 
 mod cut_heap;
 mod passages;
+mod walls;
 #[cfg(test)]
 mod route_probe;
 
@@ -125,7 +127,7 @@ impl CornerGraph {
         let taut: Vec<f64> = g.taut.iter().map(|&t| if t == TAUT_COS { LEG_TAUT_COS } else { t }).collect();
         let half: Vec<Vec<(u32, f64)>> = (0..n)
             .into_par_iter()
-            .map_init(Vec::new, |pass, a| {
+            .map_init(|| (Vec::new(), Walls::default()), |(pass, walls), a| {
                 let (xa, ya, nxa, nya, ta, ia) = (xs[a], ys[a], nx[a], ny[a], taut[a], g.island[a]);
                 // The later nodes' arrays cut to one length, so that the loop reads them
                 // without bounds checks (and runs over several nodes at once).
@@ -152,9 +154,12 @@ impl CornerGraph {
                 }
                 let pa = g.pos[a];
                 let mut out = Vec::new();
+                // The walls the tests from `a` run into settle the later tests that must cross
+                // them (`walls.rs`).
+                walls.clear();
                 for b in (0..len).filter(|&j| pass[j]).map(|j| a + 1 + j) {
                     let pb = g.pos[b];
-                    if segment_clear(grid, pa, pb, LOS_EPS) {
+                    if sees(grid, walls, pa, pb, LOS_EPS) {
                         let d = [pb[0] - pa[0], pb[1] - pa[1]];
                         out.push((b as u32, (d[0] * d[0] + d[1] * d[1]).sqrt()));
                     }
@@ -368,6 +373,25 @@ impl CornerGraph {
             }
             f64::INFINITY
         })
+    }
+}
+
+/// Whether `p` sees `q` (m) at tolerance `eps` ([`segment_clear`]), settled by the walls that
+/// earlier tests from `p` at `eps` ran into where it can be (`walls.rs`), and adding the wall
+/// this one runs into. (Queries do not use it: it spares them 4-7% of their instructions but
+/// no time that shows.)
+#[inline]
+fn sees(grid: &NavGrid, walls: &mut Walls, p: [f64; 2], q: [f64; 2], eps: f64) -> bool {
+    if walls.hide(grid, p, q) {
+        return false;
+    }
+    match segment_verdict(grid, p, q, eps) {
+        Verdict::Clear => true,
+        Verdict::BlockedAt(i) => {
+            walls.add(grid, i, eps);
+            false
+        }
+        Verdict::Blocked => false,
     }
 }
 
