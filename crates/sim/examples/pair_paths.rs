@@ -39,16 +39,15 @@ fn run() -> Result<(), String> {
     let rows = doc["rows"].as_array().ok_or(format!("{pairs}: no \"rows\" list"))?;
     let mut paths = Vec::with_capacity(rows.len());
     for (k, row) in rows.iter().enumerate() {
-        // Habitat (x, y up, z) is xhab's (x, -z, y).
         let point = |end: &str| -> Result<Point3, String> {
             let v: Vec<f64> = row[end].as_array().map(|v| v.iter().filter_map(|x| x.as_f64()).collect()).unwrap_or_default();
             match v.as_slice() {
-                [x, y, z] => Ok(Point3::new(*x, -z, *y)),
+                &[x, y, z] => Ok(Point3::from_habitat([x, y, z])),
                 _ => Err(format!("{pairs}: rows[{k}].{end} is not [x, y, z]")),
             }
         };
         let path = xhab_sim::storey_path::path(&world, point("a")?, point("b")?);
-        paths.push(serde_json::json!(path.map(|p| p.iter().map(|q| [q.x, q.z, -q.y]).collect::<Vec<_>>())));
+        paths.push(serde_json::json!(path.map(|p| p.into_iter().map(Point3::to_habitat).collect::<Vec<_>>())));
     }
     std::fs::write(out, serde_json::Value::Array(paths).to_string()).map_err(|e| format!("{out}: {e}"))
 }
