@@ -298,19 +298,18 @@ pub(crate) fn segment_verdict(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64
             for _ in 0..samples {
                 x += sx;
                 y += sy;
-                if inner(x) && inner(y) && {
-                    let i = cell(x, y);
-                    bits[i >> 6] >> (i & 63) & 1 != 0
-                } {
-                    return Verdict::BlockedAt(cell(x, y));
+                let i = cell(x, y);
+                if inner(x) && inner(y) && bits[i >> 6] >> (i & 63) & 1 != 0 {
+                    return Verdict::BlockedAt(i);
                 }
             }
         } else {
             for _ in 0..samples {
                 x += sx;
                 y += sy;
-                if inner(x) && inner(y) && grid.block_margin[cell(x, y)] as f64 > eps {
-                    return Verdict::BlockedAt(cell(x, y));
+                let i = cell(x, y);
+                if inner(x) && inner(y) && grid.block_margin[i] as f64 > eps {
+                    return Verdict::BlockedAt(i);
                 }
             }
         }
@@ -355,7 +354,9 @@ pub(crate) fn segment_verdict(grid: &NavGrid, a: [f64; 2], b: [f64; 2], eps: f64
         let i = y as usize * w + x as usize;
         let k = reach[i] as i64;
         if k == 0 && !check(i) {
-            return if grid.block_margin[i] as f64 > eps { Verdict::BlockedAt(i) } else { Verdict::Blocked };
+            // (`get`, which cannot panic, so that `segment_clear`, which reads no more than
+            // that the segment is blocked, loads nothing more.)
+            return if grid.block_margin.get(i).is_some_and(|&m| m as f64 > eps) { Verdict::BlockedAt(i) } else { Verdict::Blocked };
         }
         if k >= 2 {
             // Every cell within k - 1 of this one needs no test ([`sure_reach`]): take at once

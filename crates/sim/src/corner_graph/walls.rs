@@ -92,15 +92,16 @@ impl Walls {
         let fa = [(a[0] - o.x) / res, (a[1] - o.y) / res];
         let fb = [(b[0] - o.x) / res, (b[1] - o.y) / res];
         self.runs.iter().any(|run| {
-            // Across the run's line: `v` the coordinate across it, `u` along it.
-            let (k, j) = if run.along_row { (1, 0) } else { (0, 1) };
+            // The coordinates across the run's row (or column) and along it.
+            let (across, along) = if run.along_row { (1, 0) } else { (0, 1) };
             let (lo, hi) = (run.line - MARGIN, run.line + 1.0 + MARGIN);
-            if !((fa[k] < lo && fb[k] > hi) || (fb[k] < lo && fa[k] > hi)) {
+            if !((fa[across] < lo && fb[across] > hi) || (fb[across] < lo && fa[across] > hi)) {
                 return false;
             }
+            // Where the segment crosses the middle line, along the run.
             let mid = run.line + 0.5;
-            let u = fa[j] + (mid - fa[k]) * (fb[j] - fa[j]) / (fb[k] - fa[k]);
-            u > run.lo + MARGIN && u < run.hi - MARGIN
+            let at = fa[along] + (mid - fa[across]) * (fb[along] - fa[along]) / (fb[across] - fa[across]);
+            at > run.lo + MARGIN && at < run.hi - MARGIN
         })
     }
 }
