@@ -1,10 +1,12 @@
-//! Frames per second of the wgpu depth camera (Vulkan; llvmpipe without a GPU) against the
-//! CPU rasteriser, on scene files.
+//! Frames per second of the wgpu depth and colour camera (Vulkan; llvmpipe without a GPU)
+//! against the CPU rasteriser, on scene files.
 //!
 //! `cargo run --release -p xhab-sim --example gpu_bench -- [SCENE.glb ...] [--seconds S]`
 //! (default: the two shared house scenes). Poses are 100 seeded navigable points with random
 //! headings; prints the adapter, agreement with the ray caster (|diff| < 1 cm) and 256x256
-//! depth frames/s (readback included): single view, and batches of 16 views in one submission.
+//! frames/s (readback included): depth single view and batches of 16 views in one submission,
+//! RGB single view, depth+RGB single view from one pass and from two (a depth render and an
+//! RGB render), and depth+RGB batches of 16.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -86,12 +88,27 @@ fn main() {
             sink += gpu.render_rgb(p, fz, &cam).expect("render")[3000] as f32;
             1
         });
+        let depth_rgb = time(&mut |i| {
+            let (p, fz) = views[i % views.len()];
+            let (d, c) = gpu.render_depth_rgb(p, fz, &cam).expect("render");
+            sink += d.data[1000] + c[3000] as f32;
+            1
+        });
+        let two_passes = time(&mut |i| {
+            let (p, fz) = views[i % views.len()];
+            sink += gpu.render_depth(p, fz, &cam).expect("render").data[1000] + gpu.render_rgb(p, fz, &cam).expect("render")[3000] as f32;
+            1
+        });
+        let depth_rgb_batch = time(&mut |i| {
+            sink += gpu.render_depth_rgb_batch(&batch16(i), &cam).expect("render").iter().map(|(d, c)| d.data[1000] + c[3000] as f32).sum::<f32>();
+            16
+        });
         let raster_batch = time(&mut |i| {
             sink += rs.render_depth_batch(&batch16(i), &cam).iter().map(|d| d.data[1000]).sum::<f32>();
             16
         });
         println!(
-            "{path}: 256x256 frames/s: gpu depth single {single:.0}, gpu depth batch-16 {batch:.0}, gpu rgb single {rgb:.0}, cpu raster depth batch-16 {raster_batch:.0} (checksum {sink})"
+            "{path}: 256x256 frames/s: gpu depth single {single:.0}, gpu depth batch-16 {batch:.0}, gpu rgb single {rgb:.0}, gpu depth+rgb single {depth_rgb:.0} (two passes {two_passes:.0}), gpu depth+rgb batch-16 {depth_rgb_batch:.0}, cpu raster depth batch-16 {raster_batch:.0} (checksum {sink})"
         );
     }
 }

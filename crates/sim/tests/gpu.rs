@@ -168,6 +168,45 @@ fn gpu_colour_matches_the_rasteriser() {
 }
 
 #[test]
+fn gpu_depth_and_colour_from_one_pass_are_the_two_renders_to_the_bit() {
+    // The procedural house (flat colours, odd image sizes), then a textured shared scene.
+    let mut scenes = vec![("procedural house", default_house(5))];
+    if let Some(dir) = crate::data::data_dir("gpu_depth_and_colour_from_one_pass textured") {
+        let path = dir.join("scenes/aws_small_house.glb");
+        scenes.push(("aws_small_house", xhab_sim::scene::load(&path, &Default::default()).unwrap_or_else(|e| panic!("{}: {e}", path.display()))));
+    }
+    for (name, scene) in scenes {
+        let Some(g) = gpu("gpu_depth_and_colour_from_one_pass_are_the_two_renders_to_the_bit", &scene) else { return };
+        let b = scene.bounds();
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        let mut views = Vec::new();
+        for _ in 0..6 {
+            let pose = Pose2::new(
+                rng.gen_range(b.min[0] as f64 + 0.3..b.max[0] as f64 - 0.3),
+                rng.gen_range(b.min[1] as f64 + 0.3..b.max[1] as f64 - 0.3),
+                rng.gen_range(-std::f64::consts::PI..std::f64::consts::PI),
+            );
+            views.push((pose, b.min[2] as f64));
+        }
+        let mut lit = 0;
+        for cam in [CameraParams::default(), CameraParams { width: 101, height: 77, ..Default::default() }] {
+            let both = g.render_depth_rgb_batch(&views, &cam).unwrap();
+            assert_eq!(both.len(), views.len());
+            for (&(pose, z), (d, c)) in views.iter().zip(&both) {
+                assert_eq!((d.width, d.height, c.len()), (cam.width, cam.height, cam.width * cam.height * 3));
+                assert!(bits(d) == bits(&g.render_depth(pose, z, &cam).unwrap()), "{name}: depth differs from the depth pass at {pose:?}");
+                assert!(*c == g.render_rgb(pose, z, &cam).unwrap(), "{name}: colour differs from the colour pass at {pose:?}");
+                lit += c.chunks(3).filter(|p| p.iter().any(|&x| x > 0)).count();
+            }
+            let (d, c) = g.render_depth_rgb(views[0].0, views[0].1, &cam).unwrap();
+            assert!(bits(&d) == bits(&both[0].0) && c == both[0].1, "{name}: a view alone differs from the same view in a batch");
+        }
+        assert!(lit > 10_000, "{name}: {lit} pixels lit: the comparison would be vacuous");
+        eprintln!("{name}: one-pass depth and colour equal the two passes on {} views", 2 * views.len());
+    }
+}
+
+#[test]
 fn gpu_renderer_errors_are_named() {
     fn shareable<T: Send + Sync>() {}
     shareable::<GpuRenderer>();

@@ -107,11 +107,12 @@ impl Renderer {
     }
 
     /// Depth and RGB of one view, as [`Renderer::depth`] and [`Renderer::rgb`] give them (the
-    /// rasteriser draws the view once for both).
+    /// rasteriser and wgpu draw the view once for both).
     pub fn depth_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> Result<(DepthImage, Vec<u8>), RenderError> {
         Ok(match self {
             Renderer::Raster(r) => r.render_depth_rgb(base, floor_z, cam),
-            _ => (self.depth(base, floor_z, cam)?, self.rgb(base, floor_z, cam)?),
+            Renderer::Wgpu(r) => r.render_depth_rgb(base, floor_z, cam)?,
+            Renderer::Raycast(_) => (self.depth(base, floor_z, cam)?, self.rgb(base, floor_z, cam)?),
         })
     }
 
