@@ -2,7 +2,7 @@
 //! against the CPU rasteriser, on scene files.
 //!
 //! `cargo run --release -p xhab-sim --example gpu_bench -- [SCENE.glb ...] [--seconds S]`
-//! (default: the two shared house scenes). Poses are 100 seeded navigable points with random
+//! (default: the two house scenes of the shared data, `$XHAB_DATA` or `../shared`). Poses are 100 seeded navigable points with random
 //! headings; prints the adapter, agreement with the ray caster (|diff| < 1 cm) and 256x256
 //! frames/s (readback included): depth single view and batches of 16 views in one submission,
 //! RGB single view, depth+RGB single view from one pass and from two (a depth render and an
@@ -26,7 +26,9 @@ fn main() {
         args.drain(i..i + 2);
     }
     if args.is_empty() {
-        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("/work/shared/scenes/{s}")).collect();
+        // The shared data, as the tests find it.
+        let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
+        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("{data}/scenes/{s}")).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {
