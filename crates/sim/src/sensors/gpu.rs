@@ -638,10 +638,7 @@ impl GpuRenderer {
     /// each image as [`GpuRenderer::render_depth`] gives it.
     pub fn render_depth_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<DepthImage>, GpuError> {
         let mut out = Vec::with_capacity(views.len());
-        self.render(Kind::Depth, views, cam, &mut |px: &[u8]| {
-            let data = px.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
-            out.push(DepthImage { width: cam.width, height: cam.height, data });
-        })?;
+        self.render(Kind::Depth, views, cam, &mut |px: &[u8]| out.push(depth_image(px, cam)))?;
         Ok(out)
     }
 
@@ -657,9 +654,7 @@ impl GpuRenderer {
     /// submission; each image as [`GpuRenderer::render_rgb`] gives it.
     pub fn render_rgb_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<Vec<u8>>, GpuError> {
         let mut out = Vec::with_capacity(views.len());
-        self.render(Kind::Rgb, views, cam, &mut |px: &[u8]| {
-            out.push(px.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect());
-        })?;
+        self.render(Kind::Rgb, views, cam, &mut |px: &[u8]| out.push(rgb_bytes(px)))?;
         Ok(out)
     }
 
@@ -673,11 +668,9 @@ impl GpuRenderer {
     /// pass ([`GpuRenderer::render_depth_rgb`]).
     pub fn render_depth_rgb_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<(DepthImage, Vec<u8>)>, GpuError> {
         let mut out = Vec::with_capacity(views.len());
-        let n = cam.width * cam.height * 4;
         self.render(Kind::DepthRgb, views, cam, &mut |px: &[u8]| {
-            let (depth, rgb) = px.split_at(n);
-            let data = depth.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
-            out.push((DepthImage { width: cam.width, height: cam.height, data }, rgb.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()));
+            let (depth, rgb) = px.split_at(cam.width * cam.height * 4);
+            out.push((depth_image(depth, cam), rgb_bytes(rgb)));
         })?;
         Ok(out)
     }
@@ -926,6 +919,17 @@ impl GpuRenderer {
         t.readback.unmap();
         Ok(())
     }
+}
+
+/// A view's depth image from its `R32Float` attachment's pixels (4 bytes each, tightly packed).
+fn depth_image(px: &[u8], cam: &CameraParams) -> DepthImage {
+    let data = px.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    DepthImage { width: cam.width, height: cam.height, data }
+}
+
+/// A view's RGB bytes from its RGBA8 attachment's pixels (alpha dropped).
+fn rgb_bytes(px: &[u8]) -> Vec<u8> {
+    px.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
 /// An error caught by an error scope, as a [`GpuError`].
