@@ -11,8 +11,8 @@
 //! glTF's default bilinear sampler on the image itself. The product is encoded back to
 //! sRGB bytes by where it falls among the 255 linear values half way between consecutive
 //! bytes (also shared with the GPU, so no `pow` differs between them; the shader searches
-//! them in binary, the CPU starts from a table of 4,096 bins, with the same answer). A pixel
-//! is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the camera ray and the
+//! them in binary, the CPU starts from a table of bins 1/128 of an octave wide, with the
+//! same answer). A pixel is that colour shaded by `0.35 + 0.65 |cos|` of the angle between the camera ray and the
 //! surface normal, rounded to bytes. Alpha is ignored (opaque materials).
 //! The arithmetic is `f32` in the order the shader uses, so the renderers agree to within a
 //! byte wherever they see the same triangle.
@@ -167,14 +167,41 @@ pub(crate) fn srgb_table() -> &'static [f32; 512] {
     })
 }
 
-/// Bins of [`linear_to_srgb_byte`]'s start table over linear [0, 1).
-const ENCODE_BINS: usize = 4096;
+/// Bins of [`linear_to_srgb_byte`]'s start table over linear [0, 1) (a power of two; 1,792
+/// are used, see [`encode_bin`]).
+const ENCODE_BINS: usize = 2048;
 
-/// For each bin `b` of linear [0, 1), the sRGB byte of its lower edge `b / ENCODE_BINS`: where
-/// the search for any value in the bin starts.
+/// 2^-14's bits shifted right by [`ENCODE_SHIFT`]: the values below the second bin's edge
+/// (2^-14 times 129/128), all under the first step (1.5e-4), share the first bin.
+const ENCODE_BASE: usize = (127 - 14) << 7;
+
+/// The bits of a linear value dropped to find its bin: all but the exponent and the top seven
+/// bits of the mantissa, so that bins are 1/128 of an octave wide (the steps are never closer
+/// than 0.8% apart).
+const ENCODE_SHIFT: u32 = 16;
+
+/// The bin of [`linear_to_srgb_byte`]'s start table that a linear value in (0, 1) falls in:
+/// its exponent and top mantissa bits, counted from [`ENCODE_BASE`] (0 below that). Bins
+/// grow with the value, so a bin's lower edge is at most any value in it.
+#[inline(always)]
+fn encode_bin(x: f32) -> usize {
+    ((x.to_bits() >> ENCODE_SHIFT) as usize).saturating_sub(ENCODE_BASE) & (ENCODE_BINS - 1)
+}
+
+/// The lower edge of bin `b` ([`encode_bin`]): 0 for the first.
+fn encode_bin_edge(b: usize) -> f32 {
+    if b == 0 {
+        0.0
+    } else {
+        f32::from_bits(((ENCODE_BASE + b) as u32) << ENCODE_SHIFT)
+    }
+}
+
+/// For each bin `b` of linear [0, 1) ([`encode_bin`]), the sRGB byte of its lower edge: where
+/// the search for any value in the bin starts (255 for bins past 1, which no value reads).
 fn encode_start() -> &'static [u8; ENCODE_BINS] {
     static START: OnceLock<[u8; ENCODE_BINS]> = OnceLock::new();
-    START.get_or_init(|| std::array::from_fn(|b| encode_by_search(b as f32 / ENCODE_BINS as f32)))
+    START.get_or_init(|| std::array::from_fn(|b| encode_by_search(encode_bin_edge(b).min(1.0))))
 }
 
 /// A linear value as an sRGB byte (the encoding rounded to the nearest byte; below 0 or NaN
@@ -205,18 +232,13 @@ impl Srgb {
     /// [`linear_to_srgb_byte`].
     #[inline(always)]
     pub fn encode(&self, x: f32) -> u8 {
-        if !(x > 0.0) {
-            return 0;
+        // Outside (0, 1) (0 and below, NaN, 1 and above) in one unsigned comparison of the bits.
+        if x.to_bits().wrapping_sub(1) >= 0x3f7f_ffff {
+            return if x >= 1.0 { 255 } else { 0 };
         }
-        if x >= 1.0 {
-            return 255;
-        }
-        // x * 4096 is exact, so the bin's lower edge is <= x and its byte a lower bound. No bin
-        // holds two steps (a test checks), so one comparison finishes; entry 511 (2) stands
-        // after the last step.
-        // (x in (0, 1), so the bin is in 0..ENCODE_BINS: the cast to i32 and the mask change
-        // nothing but spare a saturating cast to usize and a bounds check.)
-        let c = self.start[(x * ENCODE_BINS as f32) as i32 as usize & (ENCODE_BINS - 1)] as usize;
+        // The bin's lower edge is <= x and its byte a lower bound. No bin holds two steps (a
+        // test checks), so one comparison finishes; entry 511 (2) stands after the last step.
+        let c = self.start[encode_bin(x)] as usize;
         (c + (self.table[256 + c] <= x) as usize) as u8
     }
 }
@@ -421,17 +443,25 @@ mod tests {
         // The start table gives the binary search's answer everywhere, steps and bin edges
         // included.
         let mut xs: Vec<f32> = srgb_table()[256..511].iter().flat_map(|&s| [s, f32::from_bits(s.to_bits() - 1), f32::from_bits(s.to_bits() + 1)]).collect();
-        xs.extend((0..=ENCODE_BINS).map(|b| b as f32 / ENCODE_BINS as f32));
+        xs.extend((0..ENCODE_BINS).flat_map(|b| {
+            let e = encode_bin_edge(b);
+            [e, f32::from_bits(e.to_bits().saturating_sub(1)), f32::from_bits(e.to_bits() + 1)]
+        }));
+        xs.extend([f32::MIN_POSITIVE, 1e-45, 1e-30, 1e-5, 0.99999994, 1.0, f32::INFINITY, -0.0, f32::NEG_INFINITY]);
         xs.extend((0..100_000).map(|i| i as f32 / 100_000.0));
         for x in xs {
             assert_eq!(linear_to_srgb_byte(x), encode_by_search(x), "{x}");
         }
         // One comparison after the start table's byte is enough: no bin holds two steps.
         let steps = &srgb_table()[256..511];
-        for b in 0..ENCODE_BINS {
-            let (lo, hi) = (b as f32 / ENCODE_BINS as f32, (b + 1) as f32 / ENCODE_BINS as f32);
+        for b in 0..ENCODE_BINS - 1 {
+            let (lo, hi) = (encode_bin_edge(b), encode_bin_edge(b + 1));
             assert!(steps.iter().filter(|&&s| s > lo && s < hi).count() <= 1, "bin {b}");
         }
+        // Every value in (0, 1) has a bin whose lower edge is at most it, and the bins reach 1.
+        assert_eq!(encode_bin(0.99999994), (0x3f7f - ENCODE_BASE));
+        assert!(encode_bin_edge(encode_bin(0.99999994) + 1) == 1.0);
+        assert_eq!(encode_bin(1e-30), 0);
         // The search agrees with the formula away from the rounding steps.
         for i in 0..=1000 {
             let x = i as f64 / 1000.0;
