@@ -2,7 +2,8 @@
 //! projects each corner once (in a loop the compiler vectorises) instead of three times per
 //! triangle, and rejects triangles from the projected corners.
 
-use super::{ceil_small, floor_i32, Cluster, Tri, View, NEAR};
+use super::{Cluster, Tri, View, NEAR};
+use crate::rounding::{ceil_bounded, floor_bounded};
 use std::collections::HashMap;
 
 /// Each cluster's distinct triangle corners (world frame, m, one array per axis) and, per
@@ -88,10 +89,10 @@ impl ViewCorners {
             let (u, v) = (view.cx + view.fx * (q[0] * r), view.cy + view.fy * (q[1] * r));
             // Rounding and clamping are monotone, so a triangle's box is the min / max of these.
             px[i] = [
-                ceil_small(clamp(u - MARGIN, -1.0, wf)).max(0) as i16,
-                -(floor_i32(clamp(u + MARGIN, -1.0, wf)).min(wm) as i16),
-                ceil_small(clamp(v - MARGIN, -1.0, hf)).max(0) as i16,
-                -(floor_i32(clamp(v + MARGIN, -1.0, hf)).min(hm) as i16),
+                ceil_bounded(clamp(u - MARGIN, -1.0, wf)).max(0) as i16,
+                -(floor_bounded(clamp(u + MARGIN, -1.0, wf)).min(wm) as i16),
+                ceil_bounded(clamp(v - MARGIN, -1.0, hf)).max(0) as i16,
+                -(floor_bounded(clamp(v + MARGIN, -1.0, hf)).min(hm) as i16),
             ];
         }
     }

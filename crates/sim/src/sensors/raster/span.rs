@@ -1,7 +1,8 @@
 //! Depth rasterisation by row spans: the pixels of a row that a triangle covers are an
 //! interval, bounded by one crossing column per edge instead of edge tests at every pixel.
 
-use super::{ceil_small, Setup, View};
+use super::{Setup, View};
+use crate::rounding::ceil_bounded;
 
 /// The columns `lo..=hi` (within `u0..=u1`) of the row at `yv` (pixels from the principal
 /// point) that triangle `t` covers; `None` when it covers none. `inv_e` is `1 / e` of each edge.
@@ -28,8 +29,9 @@ pub(super) fn row_span(t: &Setup, inv_e: &[f32; 3], cx: f32, yv: f32, u0: i32, u
             return None;
         }
     }
-    let lo = ceil_small(if lo < u1 as f32 + 1.0 { lo } else { u1 as f32 + 1.0 });
-    let hi = ceil_small(if hi_ex > u0 as f32 { hi_ex } else { u0 as f32 }) - 1;
+    // (Both within `u0..=u1 + 1`: a NaN crossing never moves them.)
+    let lo = ceil_bounded(if lo < u1 as f32 + 1.0 { lo } else { u1 as f32 + 1.0 });
+    let hi = ceil_bounded(if hi_ex > u0 as f32 { hi_ex } else { u0 as f32 }) - 1;
     (lo <= hi).then_some((lo, hi))
 }
 
