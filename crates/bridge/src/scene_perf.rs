@@ -232,7 +232,8 @@ pub struct RenderPerf {
     /// Views per batched render call, if batching was timed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub batch: Option<usize>,
-    /// Views rendered in batches, each with its agent's step (1/s).
+    /// Views rendered in batches, each with its agent's step and the same sensors as
+    /// `depth_steps_per_s` (depth, and RGB when asked) (1/s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub depth_batch_steps_per_s: Option<f64>,
 }
@@ -578,8 +579,14 @@ fn render_perf(world: &World, starts: &[KinematicEnv], o: &PerfOptions, sensors:
                         (e.pose(), e.grid().floor_z)
                     })
                     .collect();
-                let imgs = r.depth_batch(&views, &cam)?;
-                checksum += imgs.iter().map(|i| i.data[i.data.len() / 2] as f64).sum::<f64>();
+                // The same sensors as the single views: depth, and RGB when asked.
+                if rgb {
+                    let imgs = r.depth_rgb_batch(&views, &cam)?;
+                    checksum += imgs.iter().map(|(d, c)| d.data[d.data.len() / 2] as f64 + c[c.len() / 2] as f64).sum::<f64>();
+                } else {
+                    let imgs = r.depth_batch(&views, &cam)?;
+                    checksum += imgs.iter().map(|i| i.data[i.data.len() / 2] as f64).sum::<f64>();
+                }
                 views_done += views.len() as u64;
             }
             s += t.elapsed().as_secs_f64();

@@ -82,10 +82,12 @@ fn rendering_is_deterministic_single_batched_on_one_thread_and_with_colour() {
     let views: Vec<(Pose2, f64)> = (0..6).map(|i| (Pose2::new(2.0 + i as f64, 1.5 + 0.3 * i as f64, 0.9 * i as f64), 0.0)).collect();
     let bits = |d: &DepthImage| d.data.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let batch = rs.render_depth_batch(&views, &cam);
+    let batch_rgb = rs.render_depth_rgb_batch(&views, &cam);
+    assert_eq!(batch_rgb.len(), views.len());
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     // A single view draws one buffer per thread and merges them: any count gives the same.
     let four = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
-    for (&(p, z), b) in views.iter().zip(&batch) {
+    for (i, (&(p, z), b)) in views.iter().zip(&batch).enumerate() {
         let a = rs.render_depth(p, z, &cam);
         assert_eq!(bits(&a), bits(&rs.render_depth(p, z, &cam)));
         assert_eq!(bits(&a), bits(b));
@@ -97,6 +99,10 @@ fn rendering_is_deterministic_single_batched_on_one_thread_and_with_colour() {
         let (d, c) = rs.render_depth_rgb(p, z, &cam);
         assert_eq!(bits(&a), bits(&d));
         assert_eq!(c, rs.render_rgb(p, z, &cam));
+        // A batch renders each view on one thread, rows coloured in turn: the same images.
+        let (bd, bc) = &batch_rgb[i];
+        assert_eq!(bits(&a), bits(bd));
+        assert_eq!(&c, bc);
     }
 }
 
@@ -156,4 +162,25 @@ fn an_empty_scene_has_no_raster_scene_and_a_lone_box_is_seen() {
     let one = CameraParams { width: 1, height: 1, ..Default::default() };
     assert!((rs.render_depth(Pose2::new(0.0, 0.0, 0.0), 0.0, &one).data[0] - 2.0).abs() < 1e-4);
     assert!(rs.render_rgb(Pose2::new(0.0, 0.0, 0.0), 0.0, &one).iter().any(|c| *c > 0));
+}
+
+#[test]
+fn a_batch_of_depth_and_colour_views_is_each_view_rendered_alone() {
+    use xhab_sim::sensors::{Renderer, RendererKind};
+    let scene = default_house(2);
+    let cam = CameraParams { width: 64, height: 48, ..CameraParams::default() };
+    let views: Vec<(Pose2, f64)> = (0..5).map(|i| (Pose2::new(1.5 + 0.7 * i as f64, 2.0 + 0.2 * i as f64, 1.3 * i as f64), 0.0)).collect();
+    for kind in [RendererKind::Raycast, RendererKind::Raster] {
+        let r = Renderer::new(kind, &scene).expect("a CPU renderer");
+        let batch = r.depth_rgb_batch(&views, &cam).expect("rendered");
+        assert_eq!(batch.len(), views.len());
+        for (&(p, z), (d, c)) in views.iter().zip(&batch) {
+            let (d1, c1) = r.depth_rgb(p, z, &cam).expect("rendered");
+            assert_eq!(d.data.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), d1.data.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), "{kind:?} at {p:?}");
+            assert_eq!(c, &c1, "{kind:?} at {p:?}");
+            // Something is seen (else the comparison checks nothing).
+            assert!(d.data.iter().filter(|x| **x > 0.0).count() > d.data.len() / 2, "{kind:?} at {p:?}");
+        }
+        assert!(r.depth_rgb_batch(&[], &cam).expect("rendered").is_empty());
+    }
 }

@@ -125,4 +125,14 @@ impl Renderer {
             Renderer::Wgpu(r) => r.render_depth_batch(views, cam)?,
         })
     }
+
+    /// Depth and RGB for many views, in order, each pair as [`Renderer::depth_rgb`] gives it:
+    /// the rasteriser renders one view per thread, wgpu all of them in one submission.
+    pub fn depth_rgb_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Result<Vec<(DepthImage, Vec<u8>)>, RenderError> {
+        Ok(match self {
+            Renderer::Raycast(r) => views.par_iter().map(|(b, z)| (render_depth(r, *b, *z, cam), render_rgb(r, *b, *z, cam))).collect(),
+            Renderer::Raster(r) => r.render_depth_rgb_batch(views, cam),
+            Renderer::Wgpu(r) => r.render_depth_rgb_batch(views, cam)?,
+        })
+    }
 }

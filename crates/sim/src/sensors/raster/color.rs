@@ -65,10 +65,22 @@ impl RasterScene {
     /// The depth image ([`RasterScene::render_depth`], to the bit) and the colour image
     /// ([`RasterScene::render_rgb`]) of one view, from one rasterisation.
     pub fn render_depth_rgb(&self, base: Pose2, floor_z: f64, cam: &CameraParams) -> (DepthImage, Vec<u8>) {
+        self.depth_rgb(base, floor_z, cam, rayon::current_num_threads())
+    }
+
+    /// The depth and colour images of many views (robot pose, floor height in m), one view
+    /// per rayon task; each pair as [`RasterScene::render_depth_rgb`] gives it.
+    pub fn render_depth_rgb_batch(&self, views: &[(Pose2, f64)], cam: &CameraParams) -> Vec<(DepthImage, Vec<u8>)> {
+        views.par_iter().map(|&(base, floor_z)| self.depth_rgb(base, floor_z, cam, 1)).collect()
+    }
+
+    /// [`RasterScene::render_depth_rgb`] with the view's clusters dealt to `parts` buffers
+    /// and, for more than one, its rows coloured in parallel (the images do not depend on it).
+    fn depth_rgb<'s>(&'s self, base: Pose2, floor_z: f64, cam: &CameraParams, parts: usize) -> (DepthImage, Vec<u8>) {
         if cam.width == 0 || cam.height == 0 {
             return (DepthImage { width: cam.width, height: cam.height, data: Vec::new() }, Vec::new());
         }
-        let (zb, ids) = self.ids(&View::new(base, floor_z, cam), rayon::current_num_threads());
+        let (zb, ids) = self.ids(&View::new(base, floor_z, cam), parts);
         let far = cam.max_depth as f32;
         let depth = DepthImage { width: cam.width, height: cam.height, data: zb.iter().map(|&z| depth_of(z, far)).collect() };
         let k = cam.intrinsics();
@@ -83,7 +95,7 @@ impl RasterScene {
         // painted, then per pixel one division for where its ray meets the plane. A row's
         // textured pixels are sampled after its geometry, in a second loop (each loop short
         // enough for the processor to keep several pixels in flight).
-        data.par_chunks_mut(w * 3).enumerate().for_each_init(RowScratch::default, |sc, (v, row)| {
+        let colour_row = |sc: &mut RowScratch<'s>, (v, row): (usize, &mut [u8])| {
             let y = (v as f64 - k.cy) / k.fy;
             // The ray through column offset x is d0 + x d1, of length sqrt(1 + x^2 + y^2).
             let (d0, d1) = ([c, s, -y], [s, -c, 0.0]);
@@ -132,7 +144,13 @@ impl RasterScene {
                 }
                 from = to;
             }
-        });
+        };
+        if parts > 1 {
+            data.par_chunks_mut(w * 3).enumerate().for_each_init(RowScratch::default, colour_row);
+        } else {
+            let mut sc = RowScratch::default();
+            data.chunks_mut(w * 3).enumerate().for_each(|r| colour_row(&mut sc, r));
+        }
         (depth, data)
     }
 }
