@@ -297,7 +297,8 @@ pub fn measure_scene(o: &PerfOptions) -> Result<ScenePerf, PerfError> {
     // Checked before the long figures, so that a typo fails at once.
     let sensors = o.rendered_sensors();
     let rgb = setup::parse_sensors(&sensors)?;
-    let scene = setup::load_scene(&o.scene, &o.scene_options)?;
+    // Only RGB reads the textures: without it they are left unread (as `xhab bench` does).
+    let scene = setup::load_scene(&o.scene, &SceneOptions { textures: o.scene_options.textures && rgb, ..o.scene_options.clone() })?;
     let tris = scene.triangle_count();
     let params = setup::agent_params(&o.scene_options);
     let no_floor = || SetupError::NoWalkableFloor(o.scene.clone());

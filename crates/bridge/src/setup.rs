@@ -151,11 +151,14 @@ pub struct SceneOptions {
     pub cell_size: f64,
     /// Storeys of the procedural house (default 1; more are joined by a stair hall).
     pub storeys: usize,
+    /// Read the scene file's textures (default true): needed only to render RGB, and most
+    /// of a textured scene's load time.
+    pub textures: bool,
 }
 
 impl Default for SceneOptions {
     fn default() -> Self {
-        Self { up_axis: UpAxis::Y, keep_ceilings: false, agent_radius: None, agent_height: 1.5, cell_size: 0.05, storeys: 1 }
+        Self { up_axis: UpAxis::Y, keep_ceilings: false, agent_radius: None, agent_height: 1.5, cell_size: 0.05, storeys: 1, textures: true }
     }
 }
 
@@ -195,7 +198,7 @@ pub fn load_scene(arg: &str, opts: &SceneOptions) -> Result<Scene, SetupError> {
     if arg == STAIR_BUILDING {
         return Ok(scene::stair_building::stair_building(&Default::default()));
     }
-    let load = LoadOptions { up_axis: opts.up_axis, drop_ceilings: !opts.keep_ceilings };
+    let load = LoadOptions { up_axis: opts.up_axis, drop_ceilings: !opts.keep_ceilings, textures: opts.textures };
     scene::load(Path::new(arg), &load).map_err(|source| SetupError::Scene { arg: arg.to_string(), source })
 }
 
@@ -560,9 +563,11 @@ impl EnvSetup {
                 scene_options.agent_radius = Some(robot_profile(&p.robot)?.radius);
             }
         }
+        let rgb = parse_sensors(&o.sensors)?;
+        // Without an RGB camera nothing reads a colour: the textures are left unread.
+        scene_options.textures &= rgb;
         let world = load_world(&o.scene, &scene_options)?;
         let physics = o.physics.as_ref().map(|p| physics_setup(&world, p)).transpose()?;
-        let rgb = parse_sensors(&o.sensors)?;
         let noise = depth_noise(o.depth_noise, o.edge_dropout)?;
         let (sensors, renderer_note) = if o.sensors.is_empty() {
             (None, None)
@@ -608,6 +613,30 @@ mod tests {
         assert_eq!(err(depth_noise(-1.0, 0.0)), "--depth-noise must be >= 0 and --edge-dropout in [0, 1]");
         assert_eq!(err(camera_params(&CameraOptions { resolution: 0, ..Default::default() }, 1.0)), "bad camera: --resolution must be in 1..=4096 and --hfov in (0, 180)");
         assert!(err(load_world("/nonexistent/house.glb", &SceneOptions::default())).starts_with("loading scene /nonexistent/house.glb"));
+    }
+
+    #[test]
+    fn an_environment_reads_the_textures_only_for_an_rgb_camera() {
+        use xhab_sim::scene::{Texture, Wrap};
+        let mut scene = scene::house::generate_house(2, &Default::default());
+        let m = &mut scene.meshes[0];
+        m.uvs = vec![[0.5, 0.5]; m.positions.len()];
+        m.texture = Some(0);
+        scene.textures.push(Texture { name: "grey".into(), width: 1, height: 1, rgba: std::sync::Arc::new(vec![128, 128, 128, 255]), wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat });
+        let dir = std::env::temp_dir().join(format!("xhab_setup_textures_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("house.glb");
+        scene::write_glb(&scene, &path).unwrap();
+        let textures = |sensors: &[&str]| {
+            let mut o = EnvOptions::new(path.to_string_lossy());
+            o.sensors = sensors.iter().map(|s| s.to_string()).collect();
+            EnvSetup::build(&o).unwrap().world.scene.textures.len()
+        };
+        assert_eq!(textures(&[]), 0);
+        assert_eq!(textures(&["depth"]), 0);
+        assert_eq!(textures(&["depth", "rgb"]), 1);
+        assert_eq!(load_scene(&path.to_string_lossy(), &SceneOptions::default()).unwrap().textures.len(), 1);
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

@@ -109,6 +109,7 @@ fn env_options(scene: &str, o: &Bound<'_, PyDict>) -> PyResult<EnvOptions> {
         agent_height: opt(o, "agent_height")?.unwrap_or(d.agent_height),
         cell_size: opt(o, "cell_size")?.unwrap_or(d.cell_size),
         storeys: opt(o, "storeys")?.unwrap_or(d.storeys),
+        textures: d.textures,
     };
     if opt(o, "physics")?.unwrap_or(false) {
         let p = PhysicsOptions::default();

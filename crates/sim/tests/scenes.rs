@@ -108,7 +108,7 @@ fn obj_and_ply_honour_the_up_axis() {
     assert_eq!(s.meshes[0].positions[2], [0.0, 1.0, 0.0]);
     let ply = tmp("tri.ply");
     std::fs::write(&ply, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 2\n3 0 1 2\n").unwrap();
-    let s = load(&ply, &LoadOptions { up_axis: UpAxis::Z, drop_ceilings: true }).unwrap();
+    let s = load(&ply, &LoadOptions { up_axis: UpAxis::Z, drop_ceilings: true, ..Default::default() }).unwrap();
     assert_eq!(s.meshes[0].positions[2], [0.0, 1.0, 2.0]);
 }
 

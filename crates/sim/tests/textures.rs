@@ -282,6 +282,32 @@ fn glb_round_trip_keeps_textures_and_texture_coordinates() {
     assert_eq!((back.meshes[1].texture, back.meshes[1].uvs.len()), (None, 0));
 }
 
+#[test]
+fn without_textures_a_scene_loads_the_same_geometry_and_reads_no_image() {
+    let no_textures = LoadOptions { textures: false, ..LoadOptions::default() };
+    // glTF: a wall with its texture in the GLB; the geometry is the same to the bit.
+    let p = tmp("geometry").join("wall.glb");
+    std::fs::write(&p, to_glb_bytes(&wall(checker(), -0.5, 1.5))).unwrap();
+    let (full, bare) = (load(&p, &LoadOptions::default()).unwrap(), load(&p, &no_textures).unwrap());
+    assert_eq!((full.textures.len(), bare.textures.len()), (1, 0));
+    assert_eq!(full.meshes.len(), bare.meshes.len());
+    for (a, b) in full.meshes.iter().zip(&bare.meshes) {
+        assert_eq!((&a.positions, &a.indices, a.base_color), (&b.positions, &b.indices, b.base_color));
+        assert_eq!((b.texture, b.uvs.len()), (None, 0));
+    }
+    assert!(RasterScene::new(&bare).is_some());
+    // An image that is missing, or no image at all, is never read, so it is no error.
+    let dir = tmp("geometry_missing");
+    let p = gltf_quad(&dir, "missing.gltf", serde_json::json!({"uri": "nowhere.png"}), 0, 4);
+    assert!(load(&p, &LoadOptions::default()).is_err());
+    assert_eq!(load(&p, &no_textures).unwrap().meshes[0].texture, None);
+    std::fs::write(dir.join("a.mtl"), "newmtl bad\nKd 0.2 0.3 0.4\nmap_Kd gone.png\n").unwrap();
+    std::fs::write(dir.join("a.obj"), "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl bad\nf 1/1 2/2 3/3\n").unwrap();
+    assert!(load(&dir.join("a.obj"), &LoadOptions::default()).is_err());
+    let s = load(&dir.join("a.obj"), &no_textures).unwrap();
+    assert_eq!((s.textures.len(), s.meshes[0].texture, s.meshes[0].base_color), (0, None, [0.2, 0.3, 0.4, 1.0]));
+}
+
 /// Texels per metre of [`far_floor`]'s checkerboard.
 const FLOOR_TEXELS_PER_M: f64 = 50.0;
 

@@ -19,6 +19,7 @@ pub fn scene_options(opts: &SceneOpts) -> SceneOptions {
         agent_height: opts.agent_height,
         cell_size: opts.cell_size,
         storeys: opts.storeys,
+        textures: true,
     }
 }
 
@@ -30,6 +31,12 @@ pub fn load_scene(arg: &str, opts: &SceneOpts) -> Result<Scene> {
 /// Loads the scene and wraps it in a world.
 pub fn load_world(arg: &str, opts: &SceneOpts) -> Result<World> {
     Ok(setup::load_world(arg, &scene_options(opts))?)
+}
+
+/// [`load_world`] without the scene's textures, for commands that never render colour
+/// (maps, geodesics, episodes): they are most of a textured scene's load time.
+pub fn load_geometry(arg: &str, opts: &SceneOpts) -> Result<World> {
+    Ok(setup::load_world(arg, &SceneOptions { textures: false, ..scene_options(opts) })?)
 }
 
 /// The floor index for a `--floor` value: `auto` or a height in metres (Habitat's y = our z).

@@ -29,8 +29,9 @@ fn det3(m: &Mat4) -> f64 {
 }
 
 /// Parses a .gltf (its external buffers and images read with `read`) or .glb file's bytes;
-/// `path` names the file in errors.
-pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
+/// `path` names the file in errors. Without `with_textures`, no image is read or decoded and
+/// every mesh keeps its base colour factor alone.
+pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>, with_textures: bool) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
     let is_glb = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
     if bytes.starts_with(b"glTF") {
@@ -65,7 +66,7 @@ pub(crate) fn parse_gltf(bytes: &[u8], path: &Path, read: ReadReferenced<'_>) ->
         if let Some(mesh) = node.mesh() {
             let name = node.name().filter(|s| !s.is_empty()).or(mesh.name()).unwrap_or("").to_string();
             for (pi, prim) in mesh.primitives().enumerate() {
-                if let Some(me) = primitive(path, &buffers, &mut textures, &prim, &m, &name, pi)? {
+                if let Some(me) = primitive(path, &buffers, with_textures.then_some(&mut textures), &prim, &m, &name, pi)? {
                     out.meshes.push(me);
                 }
             }
@@ -160,7 +161,7 @@ fn load_buffers(doc: &gltf::Document, mut blob: Option<Vec<u8>>, read: ReadRefer
 fn primitive(
     path: &Path,
     buffers: &[Vec<u8>],
-    textures: &mut GltfTextures,
+    textures: Option<&mut GltfTextures>,
     prim: &gltf::Primitive,
     m: &Mat4,
     name: &str,
@@ -206,7 +207,7 @@ fn primitive(
     let indices = tris.into_iter().map(|[a, b, c]| if flip { [a, c, b] } else { [a, b, c] }).collect();
     let pbr = prim.material().pbr_metallic_roughness();
     let mut mesh = Mesh::new(name, positions, indices, pbr.base_color_factor());
-    if let Some(info) = pbr.base_color_texture() {
+    if let (Some(info), Some(textures)) = (pbr.base_color_texture(), textures) {
         let set = info.tex_coord();
         if let Some(a) = prim.get(&gltf::Semantic::TexCoords(set)) {
             check_accessor(&a, &format!("TEXCOORD_{set}"), Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16], buffers).map_err(at)?;

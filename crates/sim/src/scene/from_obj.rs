@@ -12,7 +12,7 @@ use std::path::Path;
 /// diffuse colour and texture. A `map_Kd` image path is taken relative to the .obj's folder
 /// (where the .mtl normally lies); the texture replaces `Kd` (factor 1), and OBJ's v axis (up)
 /// is flipped to glTF's.
-pub(crate) fn parse_obj(bytes: &[u8], path: &Path, up: UpAxis, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
+pub(crate) fn parse_obj(bytes: &[u8], path: &Path, up: UpAxis, read: ReadReferenced<'_>, with_textures: bool) -> Result<Scene, SceneError> {
     let malformed = |reason: String| SceneError::Malformed { path: path.to_path_buf(), reason };
     check_obj(bytes).map_err(malformed)?;
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
@@ -46,7 +46,7 @@ pub(crate) fn parse_obj(bytes: &[u8], path: &Path, up: UpAxis, read: ReadReferen
         let mat = m.mesh.material_id.and_then(|i| materials.get(i));
         let base_color = mat.and_then(|mat| mat.diffuse).map(|d| [d[0], d[1], d[2], 1.0]).unwrap_or([0.6, 0.6, 0.6, 1.0]);
         let mut mesh = Mesh::new(&m.name, positions, indices, base_color);
-        if let Some(spec) = mat.and_then(|mat| mat.diffuse_texture.as_deref()) {
+        if let Some(spec) = mat.and_then(|mat| mat.diffuse_texture.as_deref()).filter(|_| with_textures) {
             if m.mesh.texcoords.is_empty() {
                 tracing::warn!("{}: mesh '{}': map_Kd {spec} without vt coordinates; drawn with Kd only", path.display(), m.name);
             } else {

@@ -48,8 +48,8 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, SceneError> {
 /// mesh name of a PLY file); `read` reads the files the scene refers to.
 pub fn parse(bytes: &[u8], format: SceneFormat, path: &Path, opts: &LoadOptions, read: ReadReferenced<'_>) -> Result<Scene, SceneError> {
     let mut scene = match format {
-        SceneFormat::Gltf => super::from_gltf::parse_gltf(bytes, path, read)?,
-        SceneFormat::Obj => super::from_obj::parse_obj(bytes, path, opts.up_axis, read)?,
+        SceneFormat::Gltf => super::from_gltf::parse_gltf(bytes, path, read, opts.textures)?,
+        SceneFormat::Obj => super::from_obj::parse_obj(bytes, path, opts.up_axis, read, opts.textures)?,
         SceneFormat::Ply => super::from_ply::parse_ply(bytes, path, opts.up_axis)?,
     };
     if opts.drop_ceilings {

@@ -1,13 +1,13 @@
 //! `xhab episodes`: PointNav episodes generated with Habitat's rules.
 
 use crate::cli::EpisodesArgs;
-use crate::scene_arg::load_world;
+use crate::scene_arg::load_geometry;
 use anyhow::{Context, Result};
 use std::process::ExitCode;
 use xhab_sim::episode::write_dataset;
 
 pub fn run(a: &EpisodesArgs) -> Result<ExitCode> {
-    let world = load_world(&a.scene, &a.scene_opts)?;
+    let world = load_geometry(&a.scene, &a.scene_opts)?;
     let scene_id = a.scene_id.clone().unwrap_or_else(|| a.scene.clone());
     let ds = if a.cross_floor {
         xhab_bridge::setup::generate_cross_floor(&world, &a.scene, a.count, a.seed, &scene_id)?

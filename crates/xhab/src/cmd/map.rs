@@ -2,7 +2,7 @@
 //! geometry or (`--explore`) built by a robot exploring it.
 
 use crate::cli::{CameraOpts, MapArgs, SceneOpts};
-use crate::scene_arg::{floor_index, load_world, scene_options};
+use crate::scene_arg::{floor_index, load_geometry, scene_options};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -17,7 +17,7 @@ pub fn run(a: &MapArgs) -> Result<ExitCode> {
     if a.explore {
         return explore(a, &opts, t0);
     }
-    let world = load_world(&a.scene, &opts)?;
+    let world = load_geometry(&a.scene, &opts)?;
     if a.floor == "all" {
         let yamls = xhab_bridge::setup::write_storey_maps(&world, &a.out, a.laser_height).with_context(|| format!("writing the storeys' maps of {}", a.scene))?;
         for (k, y) in yamls.iter().enumerate() {
