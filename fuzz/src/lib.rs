@@ -72,7 +72,8 @@ pub fn gltf(data: &[u8]) {
         }
     };
     let read = |_: &Path| files.map(<[u8]>::to_vec).ok_or_else(not_found);
-    match parse(doc, SceneFormat::Gltf, path, &LoadOptions::default(), &read) {
+    // (With and without textures, as for OBJ below.)
+    match parse(doc, SceneFormat::Gltf, path, &LoadOptions { textures: doc.len() % 3 != 0, ..LoadOptions::default() }, &read) {
         Ok(s) => scene(&s),
         Err(e) => names_file(&e.to_string(), path),
     }
@@ -87,7 +88,8 @@ pub fn obj(data: &[u8]) {
     };
     let read = |p: &Path| if p.extension().is_some_and(|e| e == "mtl") { Ok(mtl.to_vec()) } else { Err(not_found()) };
     let path = Path::new("/fuzz/scene.obj");
-    let opts = LoadOptions { up_axis: if obj.len() % 2 == 0 { UpAxis::Y } else { UpAxis::Z }, drop_ceilings: true };
+    // (Both with and without textures: the loader must hold up either way.)
+    let opts = LoadOptions { up_axis: if obj.len() % 2 == 0 { UpAxis::Y } else { UpAxis::Z }, drop_ceilings: true, textures: obj.len() % 3 != 0 };
     match parse(obj, SceneFormat::Obj, path, &opts, &read) {
         Ok(s) => scene(&s),
         Err(e) => names_file(&e.to_string(), path),
