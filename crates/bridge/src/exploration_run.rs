@@ -96,9 +96,7 @@ pub fn explore_scene(o: &ExploreOptions) -> Result<ExplorationRun, ExplorationRu
     let profile = setup::robot_profile(&o.robot)?;
     let mut scene_options = o.scene_options.clone();
     scene_options.agent_radius.get_or_insert(profile.radius);
-    // (Depth and scans read no colour: the textures are left unread.)
-    scene_options.textures = false;
-    let world = setup::load_world(&o.scene, &scene_options)?;
+    let world = setup::load_geometry(&o.scene, &scene_options)?;
     let floor = setup::floor_index(&world, &o.floor)?;
     let grid = world.grid(floor).map_err(SetupError::from)?;
     let (nav, warnings) = nav_params(&o.nav_params, Some(&profile)).map_err(ExplorationRunError::NavParams)?;

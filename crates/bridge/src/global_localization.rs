@@ -146,9 +146,7 @@ pub fn run_localize(o: &LocalizeOptions) -> Result<LocalizeReport, LocalizeError
     let profile = setup::robot_profile(&o.physics.robot)?;
     let mut scene_options = o.scene_options.clone();
     scene_options.agent_radius.get_or_insert(profile.radius);
-    // (Scans read no colour: the textures are left unread.)
-    scene_options.textures = false;
-    let world = setup::load_world(&o.scene, &scene_options)?;
+    let world = setup::load_geometry(&o.scene, &scene_options)?;
     let ds = setup::read_episodes(&o.episodes)?;
     let physics = setup::physics_setup(&world, &o.physics)?;
     let (mut params, warnings) = nav_params(&o.nav_params, Some(&profile))?;

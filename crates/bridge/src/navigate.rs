@@ -107,9 +107,7 @@ pub fn navigate_once(o: &NavigateOptions) -> Result<NavigateRun, NavigateError> 
     let profile = setup::robot_profile(&o.robot)?;
     let mut scene_options = o.scene_options.clone();
     scene_options.agent_radius.get_or_insert(profile.radius);
-    // (Scans read no colour: the textures are left unread.)
-    scene_options.textures = false;
-    let world = setup::load_world(&o.scene, &scene_options)?;
+    let world = setup::load_geometry(&o.scene, &scene_options)?;
     let floor = setup::floor_index(&world, "auto")?;
     let z = world.floors[floor].z;
     let (params, warnings) = nav_params(&o.nav_params, Some(&profile))?;

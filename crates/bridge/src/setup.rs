@@ -217,6 +217,12 @@ pub fn load_world(arg: &str, opts: &SceneOptions) -> Result<World, SetupError> {
     Ok(world)
 }
 
+/// [`load_world`] without the scene file's textures, for what reads no colour (maps,
+/// geodesics, episodes, scans, depth): decoding them is most of a textured scene's load.
+pub fn load_geometry(arg: &str, opts: &SceneOptions) -> Result<World, SetupError> {
+    load_world(arg, &SceneOptions { textures: false, ..opts.clone() })
+}
+
 /// The floor index for a floor argument: `auto` (the lowest), a storey number `N` (a whole
 /// number below the number of storeys, lowest 0) or a height in metres (Habitat's y, our z).
 pub fn floor_index(world: &World, floor: &str) -> Result<usize, SetupError> {

@@ -152,9 +152,8 @@ fn episode_set(scene: &SceneSpec, dir: &Path) -> Result<(PathBuf, String, usize)
         let ds = setup::read_episodes(&path).map_err(setup_err)?;
         return Ok((path, label, ds.episodes.len()));
     }
-    // (Episodes read no colour: the scene's textures are left unread.)
-    let opts = setup::SceneOptions { keep_ceilings: scene.keep_ceilings, storeys: scene.storeys, textures: false, ..Default::default() };
-    let world = setup::load_world(&scene.scene, &opts).map_err(setup_err)?;
+    let opts = setup::SceneOptions { keep_ceilings: scene.keep_ceilings, storeys: scene.storeys, ..Default::default() };
+    let world = setup::load_geometry(&scene.scene, &opts).map_err(setup_err)?;
     let ds = if g.cross_floor {
         setup::generate_cross_floor(&world, &scene.scene, g.count, g.seed, &scene.scene)
     } else {

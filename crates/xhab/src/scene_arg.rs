@@ -33,10 +33,10 @@ pub fn load_world(arg: &str, opts: &SceneOpts) -> Result<World> {
     Ok(setup::load_world(arg, &scene_options(opts))?)
 }
 
-/// [`load_world`] without the scene's textures, for commands that never render colour
-/// (maps, geodesics, episodes): they are most of a textured scene's load time.
+/// [`load_world`] without the scene's textures ([`setup::load_geometry`]), for commands
+/// that never render colour (maps, geodesics, episodes).
 pub fn load_geometry(arg: &str, opts: &SceneOpts) -> Result<World> {
-    Ok(setup::load_world(arg, &SceneOptions { textures: false, ..scene_options(opts) })?)
+    Ok(setup::load_geometry(arg, &scene_options(opts))?)
 }
 
 /// The floor index for a `--floor` value: `auto` or a height in metres (Habitat's y = our z).
