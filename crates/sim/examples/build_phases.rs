@@ -13,6 +13,10 @@
 //! process is the cold one a user waits for). The hashes tell whether a change to the build changed
 //! the grid or any answer.
 
+/// The shared data's lookup, as the tests do it.
+#[path = "../../../tests/support/data.rs"]
+mod data;
+
 use rand::SeedableRng;
 use std::path::Path;
 use std::time::Instant;
@@ -53,9 +57,11 @@ fn main() {
         None => false,
     };
     if args.is_empty() {
-        // The shared data, as the tests find it.
-        let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
-        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("{data}/scenes/{s}")).collect();
+        let Some(data) = data::data_dir("build_phases") else {
+            eprintln!("build_phases: no shared data: name the scene files");
+            std::process::exit(2)
+        };
+        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| data.join("scenes").join(s).display().to_string()).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {

@@ -2,11 +2,15 @@
 //! against the CPU rasteriser, on scene files.
 //!
 //! `cargo run --release -p xhab-sim --example gpu_bench -- [SCENE.glb ...] [--seconds S]`
-//! (default: the two house scenes of the shared data, `$XHAB_DATA` or `../shared`). Poses are 100 seeded navigable points with random
-//! headings; prints the adapter, agreement with the ray caster (|diff| < 1 cm) and 256x256
-//! frames/s (readback included): depth single view and batches of 16 views in one submission,
-//! RGB single view, depth+RGB single view from one pass and from two (a depth render and an
-//! RGB render), and depth+RGB batches of 16.
+//! (default: the two house scenes of the shared data, `$XHAB_DATA` or `../shared`). Poses are
+//! 100 seeded navigable points with random headings; prints the adapter, agreement with the
+//! ray caster (|diff| < 1 cm) and 256x256 frames/s (readback included): depth single view and
+//! batches of 16 views in one submission, RGB single view, depth+RGB single view from one pass
+//! and from two (a depth render and an RGB render), and depth+RGB batches of 16.
+
+/// The shared data's lookup, as the tests do it.
+#[path = "../../../tests/support/data.rs"]
+mod data;
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -26,9 +30,11 @@ fn main() {
         args.drain(i..i + 2);
     }
     if args.is_empty() {
-        // The shared data, as the tests find it.
-        let data = std::env::var("XHAB_DATA").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").to_string());
-        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("{data}/scenes/{s}")).collect();
+        let Some(data) = data::data_dir("gpu_bench") else {
+            eprintln!("gpu_bench: no shared data: name the scene files");
+            std::process::exit(2)
+        };
+        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| data.join("scenes").join(s).display().to_string()).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {

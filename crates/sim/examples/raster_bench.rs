@@ -1,11 +1,15 @@
 //! Frames per second of the rasterised depth camera against the ray caster, on scene files.
 //!
 //! `cargo run --release -p xhab-sim --example raster_bench -- [SCENE.glb ...] [--seconds S]
-//! [--frames N]` (default: the two shared house scenes). Poses are 100 seeded navigable points
+//! [--frames N]` (default: the two house scenes of the shared data, `$XHAB_DATA` or `../shared`). Poses are 100 seeded navigable points
 //! with random headings; prints agreement with the ray caster (|diff| < 1 cm) and frames/s,
 //! single view (all threads on one image) and batched (16 views, one per task). `--frames N`
 //! instead renders exactly N single views per scene and nothing else (no agreement check, no
 //! ray casting): a fixed workload for instruction counts (`valgrind --tool=callgrind`).
+
+/// The shared data's lookup, as the tests do it.
+#[path = "../../../tests/support/data.rs"]
+mod data;
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -30,7 +34,11 @@ fn main() {
         args.drain(i..i + 2);
     }
     if args.is_empty() {
-        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| format!("/work/shared/scenes/{s}")).collect();
+        let Some(data) = data::data_dir("raster_bench") else {
+            eprintln!("raster_bench: no shared data: name the scene files");
+            std::process::exit(2)
+        };
+        args = ["turtlebot3_house.glb", "aws_small_house.glb"].iter().map(|s| data.join("scenes").join(s).display().to_string()).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {

@@ -9,9 +9,13 @@
 //! given as the best over batches of 20 frames (views 0-19, 20-39, ...), steadier on a busy host. `--dump FILE` writes
 //! those views' RGB bytes; `--compare FILE` says how far this build's are from a dump's.
 
+/// The shared data's lookup, as the tests do it.
+#[path = "../../../tests/support/data.rs"]
+mod data;
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 use xhab_sim::navgrid::AgentParams;
 use xhab_sim::scene::{load, LoadOptions};
@@ -31,8 +35,11 @@ fn main() {
     let frames: Option<usize> = take("--frames").map(|s| s.parse().unwrap_or_else(|_| fail("--frames N: a whole number")));
     let (dump, compare) = (take("--dump"), take("--compare"));
     if args.is_empty() {
-        let data = std::env::var_os("XHAB_DATA").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared"));
-        args.push(data.join("scenes/aws_small_house.glb").display().to_string());
+        let Some(data) = data::data_dir("rgb_bench") else {
+            eprintln!("rgb_bench: no shared data: name the scene files");
+            std::process::exit(2)
+        };
+        args = ["aws_small_house.glb"].iter().map(|s| data.join("scenes").join(s).display().to_string()).collect();
     }
     println!("rayon threads: {}", rayon::current_num_threads());
     for path in &args {
