@@ -26,7 +26,7 @@
 
 use super::camera::CameraParams;
 use super::surface::{SurfaceTri, Surfaces};
-use crate::rounding::{ceil_small, floor_i32};
+use crate::rounding::{ceil_bounded, floor_bounded};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use xhab_types::{DepthImage, Pose2};
@@ -253,10 +253,11 @@ fn clipped_bbox(view: &View, p: [[f32; 3]; 3]) -> Option<[i32; 4]> {
     }
     let (wm, hm) = (view.w as i32 - 1, view.h as i32 - 1);
     Some([
-        ceil_small((x0 - MARGIN).clamp(-1.0, view.w as f32)).max(0),
-        floor_i32((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
-        ceil_small((y0 - MARGIN).clamp(-1.0, view.h as f32)).max(0),
-        floor_i32((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
+        // (`min` and `max` drop NaN, so the bounds are numbers: clamped, they are bounded.)
+        ceil_bounded((x0 - MARGIN).clamp(-1.0, view.w as f32)).max(0),
+        floor_bounded((x1 + MARGIN).clamp(-1.0, view.w as f32)).min(wm),
+        ceil_bounded((y0 - MARGIN).clamp(-1.0, view.h as f32)).max(0),
+        floor_bounded((y1 + MARGIN).clamp(-1.0, view.h as f32)).min(hm),
     ])
 }
 
@@ -376,8 +377,9 @@ impl RasterScene {
                     (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
                 }
                 // One pixel of margin against rounding, then limited to the image (n >= 1 px).
-                let lo = |c: f32, f: f32, x: f32, n: usize| (floor_i32((c + f * x).clamp(-1.0, n as f32)) - 1).clamp(0, n as i32 - 1) as u16;
-                let hi = |c: f32, f: f32, x: f32, n: usize| (ceil_small((c + f * x).clamp(-1.0, n as f32)) + 1).clamp(0, n as i32 - 1) as u16;
+                // (`min` and `max` drop NaN, so the bounds are numbers: clamped, they are bounded.)
+                let lo = |c: f32, f: f32, x: f32, n: usize| (floor_bounded((c + f * x).clamp(-1.0, n as f32)) - 1).clamp(0, n as i32 - 1) as u16;
+                let hi = |c: f32, f: f32, x: f32, n: usize| (ceil_bounded((c + f * x).clamp(-1.0, n as f32)) + 1).clamp(0, n as i32 - 1) as u16;
                 [lo(view.cx, view.fx, x0, view.w), hi(view.cx, view.fx, x1, view.w), lo(view.cy, view.fy, y0, view.h), hi(view.cy, view.fy, y1, view.h)]
             };
             vis.push(Vis { idx: idx as u32, zmin, rect });
